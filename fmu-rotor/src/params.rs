@@ -1,0 +1,283 @@
+//! Parameters of the paper's rotor system (MODEL.md section 2) and the crate's error type.
+
+use serde::{Deserialize, Serialize};
+use std::fmt;
+
+/// Everything that can go wrong in this crate. Bad input is reported, never a panic or a NaN.
+#[derive(Clone, Debug, PartialEq)]
+pub enum RotorError {
+    /// A parameter is out of its physical range (name, value, reason).
+    InvalidParameter {
+        name: &'static str,
+        value: f64,
+        reason: &'static str,
+    },
+    /// An input (film force, time, step size) is not finite or not allowed.
+    InvalidInput(String),
+    /// The step-size controller reached its minimum step, or Newton kept failing.
+    StepFailure { t_s: f64, h_s: f64, reason: String },
+    /// A linear system was singular (should not happen for a valid model).
+    Singular(&'static str),
+}
+
+impl fmt::Display for RotorError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            RotorError::InvalidParameter {
+                name,
+                value,
+                reason,
+            } => {
+                write!(f, "invalid parameter {name} = {value}: {reason}")
+            }
+            RotorError::InvalidInput(s) => write!(f, "invalid input: {s}"),
+            RotorError::StepFailure { t_s, h_s, reason } => {
+                write!(
+                    f,
+                    "integration failed at t = {t_s} s (h = {h_s} s): {reason}"
+                )
+            }
+            RotorError::Singular(what) => write!(f, "singular matrix in {what}"),
+        }
+    }
+}
+
+impl std::error::Error for RotorError {}
+
+/// One imbalance mass fixed on a wheel: a point mass at radius `radius_m`, axial position `z_m`
+/// (same z origin as the rest: turbine-side rotor end) and angle `phase_rad` measured in the
+/// rotor-fixed frame from its x axis (so at spin angle 0 it sits at (r cos phase, r sin phase)).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Imbalance {
+    pub mass_kg: f64,
+    pub radius_m: f64,
+    pub z_m: f64,
+    pub phase_rad: f64,
+}
+
+/// Rotor-system parameters, SI units. Defaults (`paper()`) are MODEL.md section 2 / path 1.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct RotorParams {
+    /// Rotor mass (shaft and both wheels).
+    pub m_kg: f64,
+    /// Transverse moment of inertia about the centre of mass.
+    pub j_t_kg_m2: f64,
+    /// Polar moment of inertia.
+    pub j_p_kg_m2: f64,
+    /// Axial positions, measured from the turbine-side rotor end.
+    pub z_cm_m: f64,
+    pub z_jc_m: f64,
+    pub z_jt_m: f64,
+    /// Ring masses (compressor / turbine side).
+    pub m_r_c_kg: f64,
+    pub m_r_t_kg: f64,
+    /// Ring mounts F = -c r_R - d r_R'.
+    pub c_c_n_m: f64,
+    pub d_c_n_s_m: f64,
+    pub c_t_n_m: f64,
+    pub d_t_n_s_m: f64,
+    /// Gravity acts in -y.
+    pub g_m_s2: f64,
+    /// Run-up Omega(t) = 2 pi f_max t / t_ramp, constant f_max afterwards.
+    pub f_max_hz: f64,
+    pub t_ramp_s: f64,
+    /// Imbalance masses: [compressor wheel, turbine wheel].
+    pub imbalance: [Imbalance; 2],
+    /// Relative tolerance of the integrator's local error test.
+    pub rtol: f64,
+    /// Absolute tolerance for coordinates [m or rad].
+    pub atol: f64,
+    /// Absolute tolerance for velocities [m/s or rad/s].
+    pub atol_vel: f64,
+    /// Largest internal step [s].
+    pub h_max_s: f64,
+}
+
+impl RotorParams {
+    /// The paper's rotor, path-1 ring mount (c = 1000 N/mm, d = 50 N s/m), zero imbalance.
+    /// The wheel positions of the (zero) imbalance masses are not given by the paper; 20 mm
+    /// from each rotor end is an assumption that only matters once a mass is set.
+    pub fn paper() -> Self {
+        let none = |z_m| Imbalance {
+            mass_kg: 0.0,
+            radius_m: 0.0,
+            z_m,
+            phase_rad: 0.0,
+        };
+        RotorParams {
+            m_kg: 0.830,
+            j_t_kg_m2: 2500e-6,
+            j_p_kg_m2: 120e-6,
+            z_cm_m: 0.125,
+            z_jc_m: 0.170,
+            z_jt_m: 0.060,
+            m_r_c_kg: 0.050,
+            m_r_t_kg: 0.050,
+            c_c_n_m: 1.0e6,
+            d_c_n_s_m: 50.0,
+            c_t_n_m: 1.0e6,
+            d_t_n_s_m: 50.0,
+            g_m_s2: 9.81,
+            f_max_hz: 2000.0,
+            t_ramp_s: 3.0,
+            imbalance: [none(0.230), none(0.020)],
+            // Displacements of interest are ~1 um (clearance 20 um): 1e-8 m is 0.05 % of C.
+            rtol: 1e-4,
+            atol: 1e-8,
+            atol_vel: 1e-5,
+            h_max_s: 1e-4,
+        }
+    }
+
+    /// Check every parameter; the first violation is returned.
+    pub fn validate(&self) -> Result<(), RotorError> {
+        fn bad(name: &'static str, value: f64, reason: &'static str) -> Result<(), RotorError> {
+            Err(RotorError::InvalidParameter {
+                name,
+                value,
+                reason,
+            })
+        }
+        let finite = [
+            ("m", self.m_kg),
+            ("J_t", self.j_t_kg_m2),
+            ("J_p", self.j_p_kg_m2),
+            ("z_cm", self.z_cm_m),
+            ("z_JC", self.z_jc_m),
+            ("z_JT", self.z_jt_m),
+            ("m_R_C", self.m_r_c_kg),
+            ("m_R_T", self.m_r_t_kg),
+            ("c_C", self.c_c_n_m),
+            ("d_C", self.d_c_n_s_m),
+            ("c_T", self.c_t_n_m),
+            ("d_T", self.d_t_n_s_m),
+            ("g", self.g_m_s2),
+            ("f_max", self.f_max_hz),
+            ("t_ramp", self.t_ramp_s),
+            ("rtol", self.rtol),
+            ("atol", self.atol),
+            ("atol_vel", self.atol_vel),
+            ("h_max", self.h_max_s),
+        ];
+        for (name, v) in finite {
+            if !v.is_finite() {
+                return bad(name, v, "must be finite");
+            }
+        }
+        for (name, v) in [
+            ("m", self.m_kg),
+            ("m_R_C", self.m_r_c_kg),
+            ("m_R_T", self.m_r_t_kg),
+        ] {
+            if v <= 0.0 {
+                return bad(name, v, "mass must be > 0");
+            }
+        }
+        if self.j_t_kg_m2 <= 0.0 {
+            return bad(
+                "J_t",
+                self.j_t_kg_m2,
+                "inertia must be positive definite (J_t > 0)",
+            );
+        }
+        if self.j_p_kg_m2 <= 0.0 {
+            return bad(
+                "J_p",
+                self.j_p_kg_m2,
+                "inertia must be positive definite (J_p > 0)",
+            );
+        }
+        // A rigid body's principal moments obey the triangle inequality J_p <= 2 J_t.
+        if self.j_p_kg_m2 > 2.0 * self.j_t_kg_m2 {
+            return bad(
+                "J_p",
+                self.j_p_kg_m2,
+                "J_p > 2 J_t is not a rigid-body inertia",
+            );
+        }
+        for (name, v) in [
+            ("c_C", self.c_c_n_m),
+            ("d_C", self.d_c_n_s_m),
+            ("c_T", self.c_t_n_m),
+            ("d_T", self.d_t_n_s_m),
+            ("f_max", self.f_max_hz),
+        ] {
+            if v < 0.0 {
+                return bad(name, v, "must be >= 0");
+            }
+        }
+        if self.t_ramp_s <= 0.0 {
+            return bad("t_ramp", self.t_ramp_s, "run-up time must be > 0");
+        }
+        if self.z_jc_m == self.z_jt_m {
+            return bad("z_JC", self.z_jc_m, "the two bearings must not coincide");
+        }
+        for (name, v) in [
+            ("rtol", self.rtol),
+            ("atol", self.atol),
+            ("atol_vel", self.atol_vel),
+            ("h_max", self.h_max_s),
+        ] {
+            if v <= 0.0 {
+                return bad(name, v, "must be > 0");
+            }
+        }
+        for im in &self.imbalance {
+            for (name, v) in [
+                ("imbalance mass", im.mass_kg),
+                ("imbalance radius", im.radius_m),
+                ("imbalance z", im.z_m),
+                ("imbalance phase", im.phase_rad),
+            ] {
+                if !v.is_finite() {
+                    return bad(name, v, "must be finite");
+                }
+            }
+            if im.mass_kg < 0.0 {
+                return bad("imbalance mass", im.mass_kg, "must be >= 0");
+            }
+            if im.radius_m < 0.0 {
+                return bad("imbalance radius", im.radius_m, "must be >= 0");
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Prescribed spin: linear run-up to `f_max_hz` in `t_ramp_s`, constant afterwards.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SpeedProfile {
+    pub f_max_hz: f64,
+    pub t_ramp_s: f64,
+}
+
+impl SpeedProfile {
+    /// Spin angle phi(t) [rad] (phi(0) = 0; negative t is treated as t = 0).
+    pub fn angle_rad(&self, t_s: f64) -> f64 {
+        let w = 2.0 * std::f64::consts::PI * self.f_max_hz;
+        let t = t_s.max(0.0);
+        if t <= self.t_ramp_s {
+            0.5 * w * t * t / self.t_ramp_s
+        } else {
+            0.5 * w * self.t_ramp_s + w * (t - self.t_ramp_s)
+        }
+    }
+    /// Omega(t) [rad/s].
+    pub fn rate_rad_s(&self, t_s: f64) -> f64 {
+        let w = 2.0 * std::f64::consts::PI * self.f_max_hz;
+        let t = t_s.max(0.0);
+        if t <= self.t_ramp_s {
+            w * t / self.t_ramp_s
+        } else {
+            w
+        }
+    }
+    /// dOmega/dt [rad/s^2] (right-sided at the kink t = t_ramp).
+    pub fn accel_rad_s2(&self, t_s: f64) -> f64 {
+        if t_s >= 0.0 && t_s < self.t_ramp_s {
+            2.0 * std::f64::consts::PI * self.f_max_hz / self.t_ramp_s
+        } else {
+            0.0
+        }
+    }
+}

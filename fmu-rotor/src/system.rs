@@ -1,0 +1,141 @@
+//! A multibody system: bodies (6 coordinates each), constraints, force elements, gravity.
+//! Evaluates the block-diagonal mass matrix M(x) and the force vector f_e(t, x, v, u)
+//! (applied forces plus centrifugal, Coriolis and gyroscopic terms) of eq. (1).
+
+use crate::body::{BodyKinematics, RigidBody};
+use crate::constraint::Constraint;
+use crate::linalg::Vec3;
+use serde::{Deserialize, Serialize};
+
+/// Force laws acting in the global x-y plane (the lateral plane of the rotor).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub enum ForceElement {
+    /// Isotropic visco-elastic mount of a body's centre to the housing at `anchor_m` (x, y):
+    /// F = -c (r - anchor) - d r'.
+    Mount {
+        body: usize,
+        anchor_m: [f64; 2],
+        c_n_m: f64,
+        d_n_s_m: f64,
+    },
+    /// Input force (u[input], u[input + 1]) in x, y on body point `s_m`; the opposite force acts
+    /// on the centre of `reaction_body` (the air film pushes journal and ring apart).
+    InputForce {
+        body: usize,
+        s_m: Vec3,
+        input: usize,
+        reaction_body: Option<usize>,
+    },
+    /// Linear spring-damper between point `s_a_m` of body a and the centre of body b, general
+    /// 2x2 stiffness and damping (x, y): F_a = -K (p_a - r_b) - D (p_a' - r_b'), F_b = -F_a.
+    /// Stands in for a linearized air film.
+    Film {
+        body_a: usize,
+        s_a_m: Vec3,
+        body_b: usize,
+        k_n_m: [[f64; 2]; 2],
+        d_n_s_m: [[f64; 2]; 2],
+    },
+}
+
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MultibodySystem {
+    pub bodies: Vec<RigidBody>,
+    pub constraints: Vec<Constraint>,
+    pub forces: Vec<ForceElement>,
+    pub gravity_m_s2: Vec3,
+}
+
+impl MultibodySystem {
+    pub fn n_coords(&self) -> usize {
+        6 * self.bodies.len()
+    }
+    pub fn n_constraints(&self) -> usize {
+        self.constraints.len()
+    }
+
+    /// Kinematics of every body.
+    pub fn kinematics(&self, x: &[f64], v: &[f64]) -> Vec<BodyKinematics> {
+        (0..self.bodies.len())
+            .map(|b| BodyKinematics::new(&x[6 * b..6 * b + 6], &v[6 * b..6 * b + 6]))
+            .collect()
+    }
+
+    /// Mass matrix blocks (one row-major 6x6 per body) and f_e. `u` are the input forces.
+    pub fn eval(&self, x: &[f64], v: &[f64], u: &[f64], m_blocks: &mut [[f64; 36]], f: &mut [f64]) {
+        let kins = self.kinematics(x, v);
+        for (b, body) in self.bodies.iter().enumerate() {
+            let mut m6 = [0.0; 36];
+            let mut f6 = [0.0; 6];
+            body.inertial_terms(&kins[b], &self.gravity_m_s2, &mut m6, &mut f6);
+            m_blocks[b] = m6;
+            f[6 * b..6 * b + 6].copy_from_slice(&f6);
+        }
+        for fe in &self.forces {
+            match *fe {
+                ForceElement::Mount {
+                    body,
+                    anchor_m,
+                    c_n_m,
+                    d_n_s_m,
+                } => {
+                    let k = &kins[body];
+                    f[6 * body] += -c_n_m * (k.r[0] - anchor_m[0]) - d_n_s_m * k.rdot[0];
+                    f[6 * body + 1] += -c_n_m * (k.r[1] - anchor_m[1]) - d_n_s_m * k.rdot[1];
+                }
+                ForceElement::InputForce {
+                    body,
+                    s_m,
+                    input,
+                    reaction_body,
+                } => {
+                    let fv = [u[input], u[input + 1], 0.0];
+                    add_point_force(f, body, &kins[body], &s_m, &fv);
+                    if let Some(rb) = reaction_body {
+                        f[6 * rb] -= fv[0];
+                        f[6 * rb + 1] -= fv[1];
+                    }
+                }
+                ForceElement::Film {
+                    body_a,
+                    s_a_m,
+                    body_b,
+                    k_n_m,
+                    d_n_s_m,
+                } => {
+                    let ka = &kins[body_a];
+                    let kb = &kins[body_b];
+                    let pa = ka.point_pos(&s_a_m);
+                    let va = ka.point_vel(&s_a_m);
+                    let dr = [pa[0] - kb.r[0], pa[1] - kb.r[1]];
+                    let dv = [va[0] - kb.rdot[0], va[1] - kb.rdot[1]];
+                    let mut fv = [0.0; 3];
+                    for i in 0..2 {
+                        fv[i] = -(k_n_m[i][0] * dr[0] + k_n_m[i][1] * dr[1])
+                            - (d_n_s_m[i][0] * dv[0] + d_n_s_m[i][1] * dv[1]);
+                    }
+                    add_point_force(f, body_a, ka, &s_a_m, &fv);
+                    f[6 * body_b] -= fv[0];
+                    f[6 * body_b + 1] -= fv[1];
+                }
+            }
+        }
+    }
+
+    /// Total kinetic energy [J].
+    pub fn kinetic_energy(&self, x: &[f64], v: &[f64]) -> f64 {
+        let kins = self.kinematics(x, v);
+        self.bodies
+            .iter()
+            .zip(&kins)
+            .map(|(b, k)| b.kinetic_energy(k))
+            .sum()
+    }
+}
+
+fn add_point_force(f: &mut [f64], body: usize, k: &BodyKinematics, s: &Vec3, fv: &Vec3) {
+    let q = k.generalized_force(s, fv);
+    for i in 0..6 {
+        f[6 * body + i] += q[i];
+    }
+}
