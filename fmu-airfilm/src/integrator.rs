@@ -1,0 +1,465 @@
+//! Transient film solver: variable-step BDF1/BDF2 with local error control and modified Newton.
+//!
+//! Time discretization: dP/dt at t_{n+1} = c0 P_{n+1} - hist, with
+//!   BDF1: c0 = 1/h,                       hist = c0 P_n,
+//!   BDF2: c0 = (1+2w)/((1+w) h), w = h/h_prev, hist = c0 P_n + w^2/((1+w) h) (P_n - P_{n-1}).
+//! The first step is BDF1 from a constant predictor, the second BDF1 with a linear predictor,
+//! then BDF2 with a quadratic predictor. The local error is estimated from corrector minus
+//! predictor (Milne's device, variable-step constants) in a weighted RMS norm
+//! (rtol |P| + atol/p_a). Each lobe is an independent block: its Newton iteration, Jacobian
+//! (analytic) and banded LU are its own. A block's LU is reused over iterations and steps until
+//! Newton converges slowly, the step-size coefficient c0 changes by more than ~50 %, or it is 40
+//! steps old. The factors, their age and c0 are part of the serialized state, so clones and
+//! restored states continue bit-identically.
+
+use crate::error::FilmError;
+use crate::forces::{self, FilmOutputs};
+use crate::geometry::{min_gap_m, GapField, Geometry};
+use crate::linsolve::BandLu;
+use crate::mesh::Mesh;
+use crate::params::BearingParams;
+use crate::reynolds::{self, Coeffs};
+use crate::{contact, JournalState};
+use serde::{Deserialize, Serialize};
+
+/// Newton tolerance on the weighted update norm (the local error tolerance is 1).
+const NEWTON_TOL: f64 = 0.05;
+const MAX_NEWTON_ITERS: usize = 7;
+const MAX_LU_AGE: u32 = 40;
+/// Smallest sub-step before a Newton failure is reported.
+const H_MIN_S: f64 = 1e-13;
+
+/// Counters of one `advance` call (or totals).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct StepStats {
+    pub n_steps: usize,
+    pub n_rejected: usize,
+    pub n_newton_iters: usize,
+    pub n_jacobians: usize,
+    pub n_newton_failures: usize,
+    /// Last accepted sub-step, s.
+    pub h_last_s: f64,
+}
+
+impl StepStats {
+    fn add(&mut self, o: &StepStats) {
+        self.n_steps += o.n_steps;
+        self.n_rejected += o.n_rejected;
+        self.n_newton_iters += o.n_newton_iters;
+        self.n_jacobians += o.n_jacobians;
+        self.n_newton_failures += o.n_newton_failures;
+        self.h_last_s = o.h_last_s;
+    }
+}
+
+/// Scratch vectors: always fully overwritten before they are read.
+#[derive(Clone, Debug, Default)]
+struct Scratch {
+    gap: GapField,
+    res: Vec<f64>,
+    hist: Vec<f64>,
+    p_new: Vec<f64>,
+    p_pred: Vec<f64>,
+    wt: Vec<f64>,
+}
+
+/// The whole state of one air film (pressure history, step size, Newton matrices).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct AirFilm {
+    params: BearingParams,
+    mesh: Mesh,
+    geom: Geometry,
+    t_s: f64,
+    /// Scaled nodal pressures P_n, P_{n-1}, P_{n-2} (all blocks).
+    p: Vec<f64>,
+    p1: Vec<f64>,
+    p2: Vec<f64>,
+    /// Last and second-last accepted step sizes, number of valid history levels.
+    h1_s: f64,
+    h2_s: f64,
+    n_hist: usize,
+    h_next_s: f64,
+    /// Inputs at t_s.
+    journal: JournalState,
+    lu: Vec<BandLu>,
+    lu_valid: Vec<bool>,
+    lu_c0: Vec<f64>,
+    lu_age: Vec<u32>,
+    totals: StepStats,
+    #[serde(skip)]
+    scratch: Scratch,
+}
+
+impl AirFilm {
+    /// A film at ambient pressure everywhere, t = 0, centred journal at rest.
+    pub fn new(params: BearingParams) -> Result<Self, FilmError> {
+        params.validate()?;
+        let mesh = Mesh::new(&params);
+        let geom = Geometry::new(&params, &mesh);
+        let n = mesh.n_nodes();
+        let nb = mesh.n_blocks;
+        Ok(AirFilm {
+            lu: (0..nb).map(|_| BandLu::new(mesh.npb, mesh.kl, mesh.ku)).collect(),
+            lu_valid: vec![false; nb],
+            lu_c0: vec![0.0; nb],
+            lu_age: vec![0; nb],
+            h_next_s: params.h_init_s,
+            params,
+            mesh,
+            geom,
+            t_s: 0.0,
+            p: vec![1.0; n],
+            p1: vec![1.0; n],
+            p2: vec![1.0; n],
+            h1_s: 0.0,
+            h2_s: 0.0,
+            n_hist: 0,
+            journal: JournalState::default(),
+            totals: StepStats::default(),
+            scratch: Scratch::default(),
+        })
+    }
+
+    /// Replaces the pressure field by `p_rel` (P = p/p_a per node, e.g. a steady solution) at
+    /// time `t_s` with inputs `journal`; the step history restarts (BDF1, initial step).
+    pub fn set_pressures_rel(&mut self, t_s: f64, journal: JournalState, p_rel: &[f64]) -> Result<(), FilmError> {
+        if p_rel.len() != self.p.len() {
+            return Err(FilmError::InvalidInput { what: "pressure vector length", value: p_rel.len() as f64, t_s });
+        }
+        if let Some(v) = p_rel.iter().find(|v| !v.is_finite() || **v <= 0.0) {
+            return Err(FilmError::InvalidInput { what: "scaled pressure", value: *v, t_s });
+        }
+        journal.check_finite(t_s)?;
+        self.p.copy_from_slice(p_rel);
+        self.t_s = t_s;
+        self.journal = journal;
+        self.n_hist = 0;
+        self.h_next_s = self.params.h_init_s;
+        self.lu_valid.iter_mut().for_each(|v| *v = false);
+        Ok(())
+    }
+
+    pub fn params(&self) -> &BearingParams {
+        &self.params
+    }
+    pub fn mesh(&self) -> &Mesh {
+        &self.mesh
+    }
+    pub fn time_s(&self) -> f64 {
+        self.t_s
+    }
+    pub fn journal(&self) -> JournalState {
+        self.journal
+    }
+    /// Totals over the film's life.
+    pub fn total_stats(&self) -> StepStats {
+        self.totals
+    }
+    /// Scaled nodal pressures P = p/p_a, block after block (block-local numbering of `mesh()`).
+    pub fn pressures_rel(&self) -> &[f64] {
+        &self.p
+    }
+    /// Nodal absolute pressures (Pa).
+    pub fn pressures_pa(&self) -> Vec<f64> {
+        self.p.iter().map(|v| v * self.params.p_a_pa).collect()
+    }
+
+    /// Force and diagnostics at the current time.
+    pub fn outputs(&self) -> FilmOutputs {
+        outputs_for(&self.params, &self.mesh, &self.geom, &self.journal, &self.p)
+    }
+
+    /// Gas mass in the film times R T (J), at the current state.
+    pub fn mass_times_rt_j(&self) -> f64 {
+        let mut gap = GapField::default();
+        self.geom.update(&self.journal, self.params.c_m, &mut gap);
+        forces::mass_times_rt_j(&self.params, &self.mesh, &gap, &self.p)
+    }
+
+    /// Gas mass outflow through the film boundary times R T (W), at the current state.
+    pub fn mass_outflow_times_rt_w(&self) -> f64 {
+        forces::mass_outflow_times_rt_w(&self.params, &self.mesh, &self.journal, &self.p)
+    }
+
+    /// Integrates from `t0_s` to `t0_s + h_s`; `journal(t)` gives the inputs inside the interval.
+    /// On error the state stays at the last accepted sub-step (see the error's time).
+    pub fn advance(
+        &mut self,
+        t0_s: f64,
+        h_s: f64,
+        journal: &dyn Fn(f64) -> JournalState,
+    ) -> Result<StepStats, FilmError> {
+        if !t0_s.is_finite() {
+            return Err(FilmError::InvalidInput { what: "t0", value: t0_s, t_s: self.t_s });
+        }
+        if !(h_s.is_finite() && h_s >= 0.0) {
+            return Err(FilmError::InvalidInput { what: "step size", value: h_s, t_s: t0_s });
+        }
+        let mut stats = StepStats::default();
+        self.t_s = t0_s;
+        if h_s == 0.0 {
+            return Ok(stats);
+        }
+        self.ensure_scratch();
+        let t_end = t0_s + h_s;
+        let fixed = self.params.fixed_step_s > 0.0;
+        let mut n_acc = 0usize;
+        let result = loop {
+            let t = self.t_s;
+            let remaining = t_end - t;
+            if remaining <= 1e-12 * h_s {
+                break Ok(());
+            }
+            if n_acc >= self.params.max_substeps {
+                break Err(FilmError::TooManySubsteps { t_reached_s: t, max_substeps: self.params.max_substeps });
+            }
+            let proposal = if fixed { self.params.fixed_step_s } else { self.h_next_s.min(self.params.h_max_s) };
+            let hs = if remaining <= 1.2 * proposal {
+                remaining
+            } else if remaining < 2.0 * proposal && !fixed {
+                0.5 * remaining
+            } else {
+                proposal
+            };
+            let last = hs == remaining;
+            let t_new = if last { t_end } else { t + hs };
+            let j_new = journal(t_new);
+            if let Err(e) = j_new.check_finite(t_new) {
+                break Err(e);
+            }
+            let h_min_m = min_gap_m(&self.params, &j_new);
+            if h_min_m <= 0.0 {
+                break Err(FilmError::BeyondContactLimit { h_min_m, t_s: t_new });
+            }
+            match self.try_step(hs, &j_new, &mut stats) {
+                Ok((err, order)) if fixed || err <= 1.0 => {
+                    self.accept(t_new, hs, j_new);
+                    n_acc += 1;
+                    stats.n_steps += 1;
+                    stats.h_last_s = hs;
+                    let ratio = step_ratio(err, order);
+                    let ratio = if ratio > 1.0 && ratio < 1.25 { 1.0 } else { ratio };
+                    let new = hs * ratio;
+                    self.h_next_s = if hs < proposal && ratio >= 1.0 { new.max(proposal) } else { new };
+                }
+                Ok((err, order)) => {
+                    stats.n_rejected += 1;
+                    self.h_next_s = hs * step_ratio(err, order).min(0.9);
+                }
+                Err(()) => {
+                    stats.n_newton_failures += 1;
+                    if fixed {
+                        break Err(FilmError::NewtonFailure { t_reached_s: t, h_s: hs });
+                    }
+                    self.h_next_s = 0.25 * hs;
+                    self.lu_valid.iter_mut().for_each(|v| *v = false);
+                }
+            }
+            if self.h_next_s < H_MIN_S {
+                break Err(FilmError::NewtonFailure { t_reached_s: t, h_s: self.h_next_s });
+            }
+        };
+        self.totals.add(&stats);
+        result.map(|_| stats)
+    }
+
+    fn ensure_scratch(&mut self) {
+        let n = self.p.len();
+        let s = &mut self.scratch;
+        for v in [&mut s.res, &mut s.hist, &mut s.p_new, &mut s.p_pred, &mut s.wt] {
+            v.resize(n, 0.0);
+        }
+    }
+
+    fn accept(&mut self, t_new: f64, hs: f64, j_new: JournalState) {
+        // Rotate history: p2 <- p1 <- p <- p_new (swaps, no copies of the big vectors).
+        std::mem::swap(&mut self.p2, &mut self.p1);
+        std::mem::swap(&mut self.p1, &mut self.p);
+        std::mem::swap(&mut self.p, &mut self.scratch.p_new);
+        self.h2_s = self.h1_s;
+        self.h1_s = hs;
+        self.n_hist = (self.n_hist + 1).min(2);
+        self.t_s = t_new;
+        self.journal = j_new;
+        for a in self.lu_age.iter_mut() {
+            *a += 1;
+        }
+    }
+
+    /// One BDF step of size `hs` from the current state. Ok((weighted error, order)) when Newton
+    /// converged; Err(()) when it did not.
+    fn try_step(&mut self, hs: f64, j_new: &JournalState, stats: &mut StepStats) -> Result<(f64, usize), ()> {
+        let prm = &self.params;
+        let n = self.p.len();
+        let (h1, h2) = (self.h1_s, self.h2_s);
+        let s = &mut self.scratch;
+        // BDF coefficients, predictor and error constant.
+        let order;
+        let c0;
+        let fac;
+        match self.n_hist {
+            0 => {
+                order = 1;
+                c0 = 1.0 / hs;
+                s.p_pred.copy_from_slice(&self.p);
+                for i in 0..n {
+                    s.hist[i] = c0 * self.p[i];
+                }
+                fac = 0.5;
+            }
+            1 => {
+                order = 1;
+                c0 = 1.0 / hs;
+                let w = hs / h1;
+                for i in 0..n {
+                    s.p_pred[i] = self.p[i] + w * (self.p[i] - self.p1[i]);
+                    s.hist[i] = c0 * self.p[i];
+                }
+                let (cc, cp) = (0.5 * hs * hs, 0.5 * hs * (hs + h1));
+                fac = cc / (cc + cp);
+            }
+            _ => {
+                order = 2;
+                let w = hs / h1;
+                c0 = (1.0 + 2.0 * w) / ((1.0 + w) * hs);
+                let c1 = w * w / ((1.0 + w) * hs);
+                for i in 0..n {
+                    let (y0, y1, y2) = (self.p[i], self.p1[i], self.p2[i]);
+                    let f01 = (y0 - y1) / h1;
+                    let f012 = (f01 - (y1 - y2) / h2) / (h1 + h2);
+                    s.p_pred[i] = y0 + hs * f01 + hs * (hs + h1) * f012;
+                    s.hist[i] = c0 * y0 + c1 * (y0 - y1);
+                }
+                let cc = hs * (hs + h1) * (hs + h1) / (6.0 * (2.0 * hs + h1));
+                let cp = hs * (hs + h1) * (hs + h1 + h2) / 6.0;
+                fac = cc / (cc + cp);
+            }
+        }
+        let atol = prm.atol_pa / prm.p_a_pa;
+        for i in 0..n {
+            s.wt[i] = 1.0 / (prm.rtol * self.p[i].abs() + atol);
+        }
+        self.geom.update(j_new, prm.c_m, &mut s.gap);
+        let co = Coeffs { lambda: prm.bearing_number(j_new.omega_rad_s), tau_s: prm.squeeze_time_s(), c0_per_s: c0 };
+        s.p_new.copy_from_slice(&s.p_pred);
+        let npb = self.mesh.npb;
+        for k in 0..self.mesh.n_blocks {
+            let r = k * npb..(k + 1) * npb;
+            let c0_ratio = c0 / self.lu_c0[k];
+            let mut need_jac = !self.lu_valid[k] || !(0.67..=1.5).contains(&c0_ratio) || self.lu_age[k] >= MAX_LU_AGE;
+            let mut converged = false;
+            for _attempt in 0..2 {
+                if need_jac {
+                    s.p_new[r.clone()].copy_from_slice(&s.p_pred[r.clone()]);
+                    reynolds::jacobian(&self.mesh, &s.gap, k, co, &s.p_new[r.clone()], &mut self.lu[k]);
+                    stats.n_jacobians += 1;
+                    self.lu_valid[k] = false;
+                    if self.lu[k].factor().is_err() {
+                        return Err(());
+                    }
+                    self.lu_valid[k] = true;
+                    self.lu_c0[k] = c0;
+                    self.lu_age[k] = 0;
+                }
+                match newton_block(&self.mesh, &s.gap, k, co, &self.lu[k], &mut s.p_new[r.clone()], &s.hist[r.clone()], &mut s.res[r.clone()], &s.wt[r.clone()], stats) {
+                    true => {
+                        converged = true;
+                        break;
+                    }
+                    false if !need_jac => need_jac = true,
+                    false => break,
+                }
+            }
+            if !converged {
+                return Err(());
+            }
+        }
+        // Local error estimate.
+        let mut sum = 0.0;
+        let mut cnt = 0usize;
+        for i in 0..n {
+            let e = fac * (s.p_new[i] - s.p_pred[i]) * s.wt[i];
+            sum += e * e;
+            cnt += (!self.mesh.dirichlet[i % npb]) as usize;
+        }
+        let err = (sum / cnt.max(1) as f64).sqrt();
+        if !err.is_finite() {
+            return Err(());
+        }
+        Ok((err, order))
+    }
+}
+
+/// Step-size ratio from the weighted error of a step of order `order`.
+fn step_ratio(err: f64, order: usize) -> f64 {
+    if err <= 0.0 {
+        return 2.0;
+    }
+    (0.9 * err.powf(-1.0 / (order as f64 + 1.0))).clamp(0.2, 2.0)
+}
+
+/// Modified Newton on one block with the factored matrix `lu`. True when converged.
+fn newton_block(
+    mesh: &Mesh,
+    gap: &GapField,
+    k: usize,
+    co: Coeffs,
+    lu: &BandLu,
+    p: &mut [f64],
+    hist: &[f64],
+    res: &mut [f64],
+    wt: &[f64],
+    stats: &mut StepStats,
+) -> bool {
+    let mut norm_prev = f64::INFINITY;
+    let mut rate = 0.0f64;
+    let n = p.len();
+    for it in 0..MAX_NEWTON_ITERS {
+        reynolds::residual(mesh, gap, k, co, p, hist, None, res);
+        lu.solve(res);
+        stats.n_newton_iters += 1;
+        let mut sum = 0.0;
+        for i in 0..n {
+            p[i] -= res[i];
+            let e = res[i] * wt[i];
+            sum += e * e;
+        }
+        let norm = (sum / n as f64).sqrt();
+        if !norm.is_finite() {
+            return false;
+        }
+        if it == 0 {
+            if norm < 0.1 * NEWTON_TOL {
+                return true;
+            }
+        } else {
+            rate = (norm / norm_prev).max(0.2 * rate);
+            if rate >= 0.9 {
+                return false;
+            }
+            if norm * rate / (1.0 - rate) < NEWTON_TOL {
+                return p.iter().all(|v| *v > 0.0);
+            }
+        }
+        norm_prev = norm;
+    }
+    false
+}
+
+/// Outputs for a pressure field (shared with the steady solver).
+pub(crate) fn outputs_for(prm: &BearingParams, mesh: &Mesh, geom: &Geometry, j: &JournalState, p: &[f64]) -> FilmOutputs {
+    let fp = forces::pressure_force_n(prm, mesh, geom, p);
+    let h_min_m = min_gap_m(prm, j);
+    let fc = contact::contact_force_n(prm, j, h_min_m);
+    let p_max = p.iter().cloned().fold(f64::NEG_INFINITY, f64::max) * prm.p_a_pa;
+    FilmOutputs {
+        fx_n: fp[0] + fc[0],
+        fy_n: fp[1] + fc[1],
+        fx_contact_n: fc[0],
+        fy_contact_n: fc[1],
+        f_contact_n: fc[0].hypot(fc[1]),
+        eps: j.dx_m.hypot(j.dy_m) / prm.c_m,
+        h_min_m,
+        p_max_pa: p_max,
+    }
+}

@@ -1,0 +1,195 @@
+//! Structured mesh of 9-node biquadratic quadrilaterals on each lobe (half width only),
+//! plus the reference-element tables (shape functions at the 3 x 3 Gauss points).
+//!
+//! Coordinates: ring-fixed angle phi (rad) and zeta = z / r (dimensionless), z = 0 at the mid-plane.
+//! Every lobe has the same local mesh; nodes are numbered with the axial direction fastest
+//! (`node = line_position * nz + j`), which keeps the half bandwidth at about 2 nz + 2.
+//! A plain bore is one periodic block; its phi-lines are numbered in "folded" order
+//! (0, 1, N-1, 2, N-2, ...) so the wrap-around coupling stays inside a narrow band too.
+
+use crate::params::BearingParams;
+use serde::{Deserialize, Serialize};
+
+/// 3-point Gauss-Legendre abscissae and weights on [-1, 1].
+pub const GAUSS3_X: [f64; 3] = [-0.774_596_669_241_483_4, 0.0, 0.774_596_669_241_483_4];
+pub const GAUSS3_W: [f64; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
+
+/// 1-D quadratic Lagrange shape functions on nodes -1, 0, 1 and their derivatives.
+#[inline]
+pub fn shape1(x: f64) -> ([f64; 3], [f64; 3]) {
+    (
+        [0.5 * x * (x - 1.0), 1.0 - x * x, 0.5 * x * (x + 1.0)],
+        [x - 0.5, -2.0 * x, x + 0.5],
+    )
+}
+
+/// Reference tables at the 9 Gauss points: `n[q][a]`, `dx[q][a]` (d/dxi), `dy[q][a]` (d/deta), `w[q]`.
+/// Local node `a = 3 * a_phi + a_z`, Gauss point `q = 3 * q_phi + q_z`.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Basis {
+    pub n: [[f64; 9]; 9],
+    pub dx: [[f64; 9]; 9],
+    pub dy: [[f64; 9]; 9],
+    pub w: [f64; 9],
+}
+
+impl Basis {
+    pub fn new() -> Self {
+        let mut b = Basis { n: [[0.0; 9]; 9], dx: [[0.0; 9]; 9], dy: [[0.0; 9]; 9], w: [0.0; 9] };
+        for qa in 0..3 {
+            for qb in 0..3 {
+                let q = 3 * qa + qb;
+                let (nx, dnx) = shape1(GAUSS3_X[qa]);
+                let (ny, dny) = shape1(GAUSS3_X[qb]);
+                b.w[q] = GAUSS3_W[qa] * GAUSS3_W[qb];
+                for a in 0..3 {
+                    for c in 0..3 {
+                        b.n[q][3 * a + c] = nx[a] * ny[c];
+                        b.dx[q][3 * a + c] = dnx[a] * ny[c];
+                        b.dy[q][3 * a + c] = nx[a] * dny[c];
+                    }
+                }
+            }
+        }
+        b
+    }
+}
+
+impl Default for Basis {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// The mesh of one block (all blocks share it; block k is shifted by `block_phi0_rad[k]`).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Mesh {
+    pub n_blocks: usize,
+    pub ne_phi: usize,
+    pub ne_z: usize,
+    /// Distinct node lines along phi per block (2 ne_phi + 1, or 2 ne_phi if periodic).
+    pub n_lines: usize,
+    /// Nodes across the half width (2 ne_z + 1).
+    pub nz: usize,
+    /// Nodes per block.
+    pub npb: usize,
+    pub periodic: bool,
+    pub block_phi0_rad: Vec<f64>,
+    /// Element size in phi (rad) and in zeta = z / r.
+    pub dphi_e: f64,
+    pub dzeta_e: f64,
+    /// Local node numbers of each element (block-local), order `3 * a_phi + a_z`.
+    pub elem: Vec<[u32; 9]>,
+    /// Element column (index along phi) of each element.
+    pub elem_col: Vec<u32>,
+    /// Element row (index along z) of each element.
+    pub elem_row: Vec<u32>,
+    /// Dirichlet (p = p_a) flag per block-local node.
+    pub dirichlet: Vec<bool>,
+    /// phi-line index and z index of each block-local node.
+    pub node_line: Vec<u32>,
+    pub node_j: Vec<u32>,
+    /// Lower and upper half bandwidth of the block matrix.
+    pub kl: usize,
+    pub ku: usize,
+    pub basis: Basis,
+}
+
+impl Mesh {
+    pub fn new(p: &BearingParams) -> Self {
+        let periodic = p.plain_bore;
+        let ne_phi = p.n_elem_phi;
+        let ne_z = p.n_elem_z;
+        let n_lines = if periodic { 2 * ne_phi } else { 2 * ne_phi + 1 };
+        let nz = 2 * ne_z + 1;
+        let npb = n_lines * nz;
+        // Position of phi-line i in the numbering.
+        let pos = |i: usize| -> usize {
+            if !periodic {
+                i
+            } else if i == 0 {
+                0
+            } else if i <= n_lines / 2 {
+                2 * i - 1
+            } else {
+                2 * (n_lines - i)
+            }
+        };
+        let node = |i: usize, j: usize| -> u32 { (pos(i % n_lines) * nz + j) as u32 };
+        let mut elem = Vec::with_capacity(ne_phi * ne_z);
+        let mut elem_col = Vec::new();
+        let mut elem_row = Vec::new();
+        for c in 0..ne_phi {
+            for r in 0..ne_z {
+                let mut e = [0u32; 9];
+                for a in 0..3 {
+                    for b in 0..3 {
+                        e[3 * a + b] = node(2 * c + a, 2 * r + b);
+                    }
+                }
+                elem.push(e);
+                elem_col.push(c as u32);
+                elem_row.push(r as u32);
+            }
+        }
+        let mut node_line = vec![0u32; npb];
+        let mut node_j = vec![0u32; npb];
+        let mut dirichlet = vec![false; npb];
+        for i in 0..n_lines {
+            for j in 0..nz {
+                let k = node(i, j) as usize;
+                node_line[k] = i as u32;
+                node_j[k] = j as u32;
+                dirichlet[k] = j == nz - 1 || (!periodic && (i == 0 || i == n_lines - 1));
+            }
+        }
+        let mut kl = 0usize;
+        for e in &elem {
+            for &a in e {
+                for &b in e {
+                    kl = kl.max((a as i64 - b as i64).unsigned_abs() as usize);
+                }
+            }
+        }
+        let n_blocks = p.n_blocks();
+        Mesh {
+            n_blocks,
+            ne_phi,
+            ne_z,
+            n_lines,
+            nz,
+            npb,
+            periodic,
+            block_phi0_rad: (0..n_blocks).map(|k| p.block_start_rad(k)).collect(),
+            dphi_e: p.block_span_rad() / ne_phi as f64,
+            dzeta_e: 0.5 * p.b_m / p.r_m / ne_z as f64,
+            elem,
+            elem_col,
+            elem_row,
+            dirichlet,
+            node_line,
+            node_j,
+            kl,
+            ku: kl,
+            basis: Basis::new(),
+        }
+    }
+
+    /// Total number of pressure nodes (all blocks).
+    pub fn n_nodes(&self) -> usize {
+        self.n_blocks * self.npb
+    }
+
+    /// Block-local angle (rad, from the block start) and zeta of a block-local node.
+    pub fn node_coords(&self, node: usize) -> (f64, f64) {
+        (
+            self.node_line[node] as f64 * 0.5 * self.dphi_e,
+            self.node_j[node] as f64 * 0.5 * self.dzeta_e,
+        )
+    }
+
+    /// Block-local angle of the Gauss point `qa` of element column `col`.
+    pub fn gauss_phi(&self, col: usize, qa: usize) -> f64 {
+        (col as f64 + 0.5 * (1.0 + GAUSS3_X[qa])) * self.dphi_e
+    }
+}
