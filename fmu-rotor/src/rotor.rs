@@ -255,6 +255,7 @@ impl Rotor {
             h_max_s: params.h_max_s,
             h_init_s: 1e-6_f64.min(params.h_max_s),
             h_min_s: 1e-14,
+            error_control: true,
         };
         let integ = GglBdf::new(sys, tol, 0.0, x0, v0, vec![0.0; 4])?;
         let profile = SpeedProfile {
