@@ -1,1 +1,94 @@
-fn main() {}
+//! Project tasks: `cargo xtask <task>`.
+//!
+//! - `fmus`            build the release cdylibs and pack target/fmu/{airfilm,rotor,oscillator}.fmu
+//! - `descriptions`    regenerate modelDescriptions/*.xml from the variable tables (`--check`: compare only)
+//! - `test`            everything CI runs: fmt, clippy, docs, fmus, descriptions --check, cargo test, pytest
+//! - `runup [ARGS]`    build the FMUs and the master, then `airring runup ARGS` (default: the path-1 run-up)
+//! - `bench`           the benchmarks of the hot loops (medians)
+
+mod pack;
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("xtask lives in the workspace").to_path_buf()
+}
+
+/// Runs a command in the workspace root, echoing it; an error names the failed step.
+fn run(step: &str, cmd: &mut Command) -> Result<(), String> {
+    cmd.current_dir(root());
+    eprintln!("==> {step}: {:?}", cmd);
+    let status = cmd.status().map_err(|e| format!("{step}: cannot start: {e}"))?;
+    if status.success() {
+        Ok(())
+    } else {
+        Err(format!("{step} failed ({status})"))
+    }
+}
+
+fn cargo() -> Command {
+    Command::new(std::env::var("CARGO").unwrap_or_else(|_| "cargo".into()))
+}
+
+fn venv_python() -> Result<PathBuf, String> {
+    let venv = root().join(".venv");
+    let py = venv.join("bin").join("python");
+    let ready = py.exists()
+        && Command::new(&py).args(["-c", "import fmpy, pytest, numpy"]).status().map(|s| s.success()).unwrap_or(false);
+    if !ready {
+        run("python venv", Command::new("python3").args(["-m", "venv"]).arg(&venv))?;
+        run(
+            "pip install",
+            Command::new(&py).args(["-m", "pip", "install", "--quiet", "--disable-pip-version-check", "-r", "tests/python/requirements.txt"]),
+        )?;
+    }
+    Ok(py)
+}
+
+fn test() -> Result<(), String> {
+    run("format check", cargo().args(["fmt", "--all", "--", "--check"]))?;
+    run("clippy", cargo().args(["clippy", "--workspace", "--all-targets", "--", "-D", "warnings"]))?;
+    run(
+        "clippy (FMU exports)",
+        cargo().args(["clippy", "--lib", "-p", "fmu-airfilm", "-p", "fmu-rotor", "-p", "fmu-oscillator", "--features"]).arg(pack::features()).args(["--", "-D", "warnings"]),
+    )?;
+    run("docs", cargo().args(["doc", "--workspace", "--no-deps"]).env("RUSTDOCFLAGS", "-D warnings"))?;
+    pack::fmus()?;
+    pack::descriptions(true)?;
+    run("cargo test", cargo().args(["test", "--workspace"]))?;
+    let py = venv_python()?;
+    run("pytest", Command::new(py).args(["-m", "pytest", "-q", "tests/python"]))?;
+    Ok(())
+}
+
+fn runup(args: &[String]) -> Result<(), String> {
+    pack::fmus()?;
+    run("build master", cargo().args(["build", "--release", "-p", "master"]))?;
+    let mut cmd = Command::new(root().join("target/release/airring"));
+    cmd.arg("runup");
+    if args.is_empty() {
+        cmd.args(["--preset", "path1"]);
+    }
+    cmd.args(args);
+    run("airring runup", &mut cmd)
+}
+
+fn main() -> ExitCode {
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let result = match args.first().map(String::as_str) {
+        Some("fmus") => pack::fmus(),
+        Some("descriptions") => pack::descriptions(args.iter().any(|a| a == "--check")),
+        Some("test") => test(),
+        Some("runup") => runup(&args[1..]),
+        Some("bench") => run("bench", cargo().args(["bench", "--workspace"])),
+        _ => Err("usage: cargo xtask fmus | descriptions [--check] | test | runup [ARGS] | bench".into()),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("xtask: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

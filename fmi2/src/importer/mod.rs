@@ -1,0 +1,74 @@
+//! Importer: load any FMI 2.0 co-simulation FMU (`.fmu` archive or unpacked folder) and drive it.
+//!
+//! Used by the `airring` master and the integration tests. Unlike the `fmi` crate it can set input
+//! derivatives, get and serialize FMU states, and it reports every status code faithfully.
+
+mod archive;
+mod description;
+mod library;
+mod slave;
+
+pub use archive::unpack;
+pub use description::{ModelDescription, ScalarVariable, UnitInfo};
+pub use library::Api;
+pub use slave::{CallError, FmuState, LogHandler, LogRecord, Slave};
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+#[derive(Debug)]
+pub struct ImportError(pub String);
+
+impl std::fmt::Display for ImportError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ImportError {}
+
+/// A loaded FMU: its description and its shared library. Instances are created with `instantiate`.
+pub struct Fmu {
+    pub path: PathBuf,
+    /// Unpacked folder (removed on drop when we created it).
+    pub dir: PathBuf,
+    owns_dir: bool,
+    pub description: ModelDescription,
+    pub api: Arc<Api>,
+}
+
+impl Fmu {
+    /// Loads a `.fmu` archive (unpacked into a fresh temporary folder) or an unpacked FMU folder.
+    pub fn load(path: &Path) -> Result<Fmu, ImportError> {
+        let (dir, owns_dir) = if path.is_dir() {
+            (path.to_path_buf(), false)
+        } else {
+            (unpack(path)?, true)
+        };
+        let md_path = dir.join("modelDescription.xml");
+        let xml = std::fs::read_to_string(&md_path)
+            .map_err(|e| ImportError(format!("{}: cannot read modelDescription.xml: {e}", path.display())))?;
+        let description = ModelDescription::parse(&xml).map_err(|e| ImportError(format!("{}: {e}", md_path.display())))?;
+        let lib = dir.join("binaries").join("linux64").join(format!("{}.so", description.model_identifier));
+        let api = Arc::new(Api::load(&lib)?);
+        Ok(Fmu { path: path.to_path_buf(), dir, owns_dir, description, api })
+    }
+
+    /// `file:///…/resources` URI of the unpacked FMU.
+    pub fn resource_uri(&self) -> String {
+        crate::resource::path_to_uri(&self.dir.join("resources"))
+    }
+
+    /// Creates an instance (fmi2Instantiate, co-simulation).
+    pub fn instantiate(&self, instance_name: &str, logging_on: bool, log: LogHandler) -> Result<Slave, ImportError> {
+        Slave::instantiate(self.api.clone(), &self.description.guid, &self.resource_uri(), instance_name, logging_on, log)
+    }
+}
+
+impl Drop for Fmu {
+    fn drop(&mut self) {
+        if self.owns_dir {
+            let _ = std::fs::remove_dir_all(&self.dir);
+        }
+    }
+}

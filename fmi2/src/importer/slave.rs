@@ -1,0 +1,321 @@
+//! A co-simulation instance of an imported FMU, with safe methods over the raw C calls.
+
+use super::{Api, ImportError};
+use crate::types::*;
+use std::ffi::{c_char, c_void, CStr, CString};
+use std::sync::Arc;
+
+/// One message an FMU logged.
+#[derive(Clone, Debug)]
+pub struct LogRecord {
+    pub instance: String,
+    pub status: Status,
+    pub category: String,
+    pub message: String,
+}
+
+/// Receives every message the FMU logs (called on the thread that called into the FMU).
+pub type LogHandler = Arc<dyn Fn(&LogRecord) + Send + Sync>;
+
+/// Component environment handed to the FMU; the C shim reads `sink` (first field) and calls it.
+#[repr(C)]
+struct LogEnv {
+    sink: unsafe extern "C" fn(*mut c_void, Fmi2String, Fmi2StatusRaw, Fmi2String, Fmi2String),
+    handler: LogHandler,
+}
+
+extern "C" {
+    fn airring_fmi2_logger(env: *mut c_void, instance: Fmi2String, status: Fmi2StatusRaw, category: Fmi2String, format: Fmi2String, ...);
+    fn calloc(n: usize, size: usize) -> *mut c_void;
+    fn free(p: *mut c_void);
+}
+
+unsafe fn lossy(s: Fmi2String) -> String {
+    if s.is_null() {
+        String::new()
+    } else {
+        // SAFETY: FMU passes NUL-terminated strings.
+        unsafe { CStr::from_ptr(s) }.to_string_lossy().into_owned()
+    }
+}
+
+unsafe extern "C" fn sink(env: *mut c_void, instance: Fmi2String, status: Fmi2StatusRaw, category: Fmi2String, message: Fmi2String) {
+    // A panicking handler must not unwind into the FMU's C frames.
+    let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        // SAFETY: env is the LogEnv we passed in fmi2Instantiate; it outlives the instance.
+        let env = unsafe { &*(env as *const LogEnv) };
+        let record = LogRecord {
+            // SAFETY: strings from the FMU (or the shim), valid for this call.
+            instance: unsafe { lossy(instance) },
+            status: Status::from_raw(status).unwrap_or(Status::Fatal),
+            category: unsafe { lossy(category) },
+            message: unsafe { lossy(message) },
+        };
+        (env.handler)(&record);
+    }));
+}
+
+unsafe extern "C" fn alloc(n: usize, size: usize) -> *mut c_void {
+    // SAFETY: libc calloc.
+    unsafe { calloc(n, size) }
+}
+
+unsafe extern "C" fn dealloc(p: *mut c_void) {
+    // SAFETY: libc free of memory from `alloc`.
+    unsafe { free(p) }
+}
+
+/// A non-OK status from an FMI call (fmi2Warning is treated as success and only logged).
+#[derive(Clone, Debug, PartialEq)]
+pub struct CallError {
+    pub function: &'static str,
+    pub status: Status,
+}
+
+impl std::fmt::Display for CallError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{} returned {}", self.function, self.status.name())
+    }
+}
+
+impl std::error::Error for CallError {}
+
+fn check(function: &'static str, raw: Fmi2StatusRaw) -> Result<(), CallError> {
+    match Status::from_raw(raw) {
+        Some(Status::Ok | Status::Warning) => Ok(()),
+        Some(status) => Err(CallError { function, status }),
+        None => Err(CallError { function, status: Status::Fatal }),
+    }
+}
+
+struct Inner {
+    api: Arc<Api>,
+    c: Fmi2Component,
+    // Boxed so their addresses stay fixed while the FMU holds them.
+    _env: Box<LogEnv>,
+    _callbacks: Box<Fmi2CallbackFunctions>,
+    name: String,
+}
+
+impl Drop for Inner {
+    fn drop(&mut self) {
+        // SAFETY: c came from fmi2Instantiate of this api and is freed once.
+        unsafe { (self.api.free_instance)(self.c) }
+    }
+}
+
+/// An instance. Methods take `&self` (the C side holds the state); it is `Send` but not `Sync`: one
+/// thread at a time, as FMI 2.0 requires.
+pub struct Slave {
+    inner: Arc<Inner>,
+}
+
+// FMI 2.0 allows an instance to be used from different threads, one call at a time (no Sync).
+unsafe impl Send for Slave {}
+
+/// An FMU state of a slave; freed (fmi2FreeFMUstate) on drop. Keeps its instance alive.
+pub struct FmuState {
+    inner: Arc<Inner>,
+    ptr: Fmi2FmuState,
+}
+
+unsafe impl Send for FmuState {}
+
+impl Drop for FmuState {
+    fn drop(&mut self) {
+        // SAFETY: ptr is a state of this instance, freed once.
+        unsafe { (self.inner.api.free_fmu_state)(self.inner.c, &mut self.ptr) };
+    }
+}
+
+impl Slave {
+    pub fn instantiate(
+        api: Arc<Api>,
+        guid: &str,
+        resource_uri: &str,
+        name: &str,
+        logging_on: bool,
+        handler: LogHandler,
+    ) -> Result<Slave, ImportError> {
+        let env = Box::new(LogEnv { sink, handler });
+        let callbacks = Box::new(Fmi2CallbackFunctions {
+            // SAFETY: same ABI as fmi2CallbackLogger (the shim is C-variadic).
+            logger: Some(airring_fmi2_logger),
+            allocate_memory: Some(alloc),
+            free_memory: Some(dealloc),
+            step_finished: None,
+            component_environment: &*env as *const LogEnv as *mut c_void,
+        });
+        let cname = CString::new(name).map_err(|_| ImportError("instance name contains NUL".into()))?;
+        let cguid = CString::new(guid).map_err(|_| ImportError("GUID contains NUL".into()))?;
+        let cres = CString::new(resource_uri).map_err(|_| ImportError("resource URI contains NUL".into()))?;
+        // SAFETY: valid strings and callbacks that outlive the instance (owned by Inner).
+        let c = unsafe {
+            (api.instantiate)(cname.as_ptr(), FMI2_CO_SIMULATION, cguid.as_ptr(), cres.as_ptr(), &*callbacks, FMI2_FALSE, logging_on as Fmi2Boolean)
+        };
+        if c.is_null() {
+            return Err(ImportError(format!("fmi2Instantiate of '{name}' failed (see the FMU's log)")));
+        }
+        Ok(Slave { inner: Arc::new(Inner { api, c, _env: env, _callbacks: callbacks, name: name.to_string() }) })
+    }
+
+    pub fn name(&self) -> &str {
+        &self.inner.name
+    }
+
+    /// Raw access for tests that drive the C ABI directly.
+    pub fn raw(&self) -> (&Api, Fmi2Component) {
+        (&self.inner.api, self.inner.c)
+    }
+
+    fn api(&self) -> &Api {
+        &self.inner.api
+    }
+
+    fn c(&self) -> Fmi2Component {
+        self.inner.c
+    }
+
+    pub fn set_debug_logging(&self, on: bool, categories: &[&str]) -> Result<(), CallError> {
+        let owned: Vec<CString> = categories.iter().map(|s| crate::logging::to_cstring(s)).collect();
+        let ptrs: Vec<*const c_char> = owned.iter().map(|s| s.as_ptr()).collect();
+        // SAFETY: valid array of C strings.
+        check("fmi2SetDebugLogging", unsafe { (self.api().set_debug_logging)(self.c(), on as i32, ptrs.len(), ptrs.as_ptr()) })
+    }
+
+    pub fn setup_experiment(&self, tolerance: Option<f64>, start: f64, stop: Option<f64>) -> Result<(), CallError> {
+        // SAFETY: plain values.
+        let s = unsafe {
+            (self.api().setup_experiment)(
+                self.c(),
+                tolerance.is_some() as i32,
+                tolerance.unwrap_or(0.0),
+                start,
+                stop.is_some() as i32,
+                stop.unwrap_or(0.0),
+            )
+        };
+        check("fmi2SetupExperiment", s)
+    }
+
+    pub fn enter_initialization_mode(&self) -> Result<(), CallError> {
+        // SAFETY: valid component.
+        check("fmi2EnterInitializationMode", unsafe { (self.api().enter_initialization_mode)(self.c()) })
+    }
+
+    pub fn exit_initialization_mode(&self) -> Result<(), CallError> {
+        // SAFETY: valid component.
+        check("fmi2ExitInitializationMode", unsafe { (self.api().exit_initialization_mode)(self.c()) })
+    }
+
+    pub fn terminate(&self) -> Result<(), CallError> {
+        // SAFETY: valid component.
+        check("fmi2Terminate", unsafe { (self.api().terminate)(self.c()) })
+    }
+
+    pub fn reset(&self) -> Result<(), CallError> {
+        // SAFETY: valid component.
+        check("fmi2Reset", unsafe { (self.api().reset)(self.c()) })
+    }
+
+    pub fn set_real(&self, vrs: &[u32], values: &[f64]) -> Result<(), CallError> {
+        assert_eq!(vrs.len(), values.len(), "one value per value reference");
+        // SAFETY: arrays of equal length.
+        check("fmi2SetReal", unsafe { (self.api().set_real)(self.c(), vrs.as_ptr(), vrs.len(), values.as_ptr()) })
+    }
+
+    pub fn get_real(&self, vrs: &[u32], values: &mut [f64]) -> Result<(), CallError> {
+        assert_eq!(vrs.len(), values.len(), "one value per value reference");
+        // SAFETY: arrays of equal length.
+        check("fmi2GetReal", unsafe { (self.api().get_real)(self.c(), vrs.as_ptr(), vrs.len(), values.as_mut_ptr()) })
+    }
+
+    pub fn set_integer(&self, vrs: &[u32], values: &[i32]) -> Result<(), CallError> {
+        assert_eq!(vrs.len(), values.len(), "one value per value reference");
+        // SAFETY: arrays of equal length.
+        check("fmi2SetInteger", unsafe { (self.api().set_integer)(self.c(), vrs.as_ptr(), vrs.len(), values.as_ptr()) })
+    }
+
+    pub fn get_integer(&self, vrs: &[u32], values: &mut [i32]) -> Result<(), CallError> {
+        assert_eq!(vrs.len(), values.len(), "one value per value reference");
+        // SAFETY: arrays of equal length.
+        check("fmi2GetInteger", unsafe { (self.api().get_integer)(self.c(), vrs.as_ptr(), vrs.len(), values.as_mut_ptr()) })
+    }
+
+    pub fn set_boolean(&self, vrs: &[u32], values: &[bool]) -> Result<(), CallError> {
+        let v: Vec<Fmi2Boolean> = values.iter().map(|b| *b as Fmi2Boolean).collect();
+        assert_eq!(vrs.len(), v.len(), "one value per value reference");
+        // SAFETY: arrays of equal length.
+        check("fmi2SetBoolean", unsafe { (self.api().set_boolean)(self.c(), vrs.as_ptr(), vrs.len(), v.as_ptr()) })
+    }
+
+    pub fn get_boolean(&self, vrs: &[u32], values: &mut [bool]) -> Result<(), CallError> {
+        let mut v = vec![0; vrs.len()];
+        // SAFETY: arrays of equal length.
+        check("fmi2GetBoolean", unsafe { (self.api().get_boolean)(self.c(), vrs.as_ptr(), vrs.len(), v.as_mut_ptr()) })?;
+        for (o, x) in values.iter_mut().zip(v) {
+            *o = x != 0;
+        }
+        Ok(())
+    }
+
+    pub fn set_real_input_derivatives(&self, vrs: &[u32], orders: &[i32], values: &[f64]) -> Result<(), CallError> {
+        assert!(vrs.len() == orders.len() && vrs.len() == values.len(), "equal lengths");
+        // SAFETY: arrays of equal length.
+        let s = unsafe { (self.api().set_real_input_derivatives)(self.c(), vrs.as_ptr(), vrs.len(), orders.as_ptr(), values.as_ptr()) };
+        check("fmi2SetRealInputDerivatives", s)
+    }
+
+    pub fn get_real_output_derivatives(&self, vrs: &[u32], orders: &[i32], values: &mut [f64]) -> Result<(), CallError> {
+        assert!(vrs.len() == orders.len() && vrs.len() == values.len(), "equal lengths");
+        // SAFETY: arrays of equal length.
+        let s = unsafe { (self.api().get_real_output_derivatives)(self.c(), vrs.as_ptr(), vrs.len(), orders.as_ptr(), values.as_mut_ptr()) };
+        check("fmi2GetRealOutputDerivatives", s)
+    }
+
+    pub fn do_step(&self, t: f64, h: f64) -> Result<(), CallError> {
+        // SAFETY: plain values.
+        check("fmi2DoStep", unsafe { (self.api().do_step)(self.c(), t, h, FMI2_TRUE) })
+    }
+
+    /// fmi2LastSuccessfulTime (after a discarded step).
+    pub fn last_successful_time(&self) -> Result<f64, CallError> {
+        let mut t = f64::NAN;
+        // SAFETY: one f64 out.
+        check("fmi2GetRealStatus", unsafe { (self.api().get_real_status)(self.c(), FMI2_LAST_SUCCESSFUL_TIME, &mut t) })?;
+        Ok(t)
+    }
+
+    pub fn get_state(&self) -> Result<FmuState, CallError> {
+        let mut ptr: Fmi2FmuState = std::ptr::null_mut();
+        // SAFETY: out pointer to a null state.
+        check("fmi2GetFMUstate", unsafe { (self.api().get_fmu_state)(self.c(), &mut ptr) })?;
+        Ok(FmuState { inner: self.inner.clone(), ptr })
+    }
+
+    pub fn set_state(&self, state: &FmuState) -> Result<(), CallError> {
+        // SAFETY: a state of this instance.
+        check("fmi2SetFMUstate", unsafe { (self.api().set_fmu_state)(self.c(), state.ptr) })
+    }
+
+    pub fn serialize_state(&self, state: &FmuState) -> Result<Vec<u8>, CallError> {
+        let mut n = 0usize;
+        // SAFETY: a state of this instance; out pointer.
+        check("fmi2SerializedFMUstateSize", unsafe { (self.api().serialized_fmu_state_size)(self.c(), state.ptr, &mut n) })?;
+        let mut bytes = vec![0u8; n];
+        // SAFETY: buffer of n bytes.
+        check("fmi2SerializeFMUstate", unsafe {
+            (self.api().serialize_fmu_state)(self.c(), state.ptr, bytes.as_mut_ptr() as *mut Fmi2Byte, n)
+        })?;
+        Ok(bytes)
+    }
+
+    pub fn deserialize_state(&self, bytes: &[u8]) -> Result<FmuState, CallError> {
+        let mut ptr: Fmi2FmuState = std::ptr::null_mut();
+        // SAFETY: buffer of bytes.len() bytes; out pointer.
+        check("fmi2DeSerializeFMUstate", unsafe {
+            (self.api().de_serialize_fmu_state)(self.c(), bytes.as_ptr() as *const Fmi2Byte, bytes.len(), &mut ptr)
+        })?;
+        Ok(FmuState { inner: self.inner.clone(), ptr })
+    }
+}

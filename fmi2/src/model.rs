@@ -1,0 +1,120 @@
+//! What a model implements. Nothing here knows about C pointers: the glue in `instance.rs` and the
+//! export macro translate FMI calls into these methods.
+
+use crate::variables::{ModelInfo, VarType};
+
+/// Highest input derivative order the layer accepts through fmi2SetRealInputDerivatives.
+pub const MAX_INPUT_DERIVATIVE_ORDER: usize = 3;
+
+/// Current values of all variables, indexed by value reference per type.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Store {
+    pub reals: Vec<f64>,
+    pub integers: Vec<i32>,
+    pub booleans: Vec<bool>,
+}
+
+impl Store {
+    /// Start values from the table (calculated variables start at 0 until the model writes them).
+    pub fn from_info(info: &ModelInfo) -> Store {
+        let mut s = Store {
+            reals: vec![0.0; info.count(VarType::Real)],
+            integers: vec![0; info.count(VarType::Integer)],
+            booleans: vec![false; info.count(VarType::Boolean)],
+        };
+        for v in &info.variables {
+            let x = v.start.unwrap_or(0.0);
+            match v.var_type {
+                VarType::Real => s.reals[v.vr as usize] = x,
+                VarType::Integer => s.integers[v.vr as usize] = x as i32,
+                VarType::Boolean => s.booleans[v.vr as usize] = x != 0.0,
+            }
+        }
+        s
+    }
+
+    pub fn real(&self, vr: u32) -> f64 {
+        self.reals[vr as usize]
+    }
+    pub fn integer(&self, vr: u32) -> i32 {
+        self.integers[vr as usize]
+    }
+    pub fn boolean(&self, vr: u32) -> bool {
+        self.booleans[vr as usize]
+    }
+}
+
+/// The inputs inside a communication step: the Taylor polynomial the master set at the
+/// communication point `t0` (values by fmi2SetReal, derivatives by fmi2SetRealInputDerivatives).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Inputs {
+    pub t0: f64,
+    /// Real values at `t0`, indexed by value reference (all Real variables; only inputs are read).
+    pub values: Vec<f64>,
+    /// `derivatives[vr][k-1]` is the k-th time derivative at `t0`.
+    pub derivatives: Vec<[f64; MAX_INPUT_DERIVATIVE_ORDER]>,
+}
+
+impl Inputs {
+    /// Value of Real input `vr` at time `t` from the Taylor polynomial about `t0`.
+    pub fn real_at(&self, vr: u32, t: f64) -> f64 {
+        let vr = vr as usize;
+        let dt = t - self.t0;
+        let d = &self.derivatives[vr];
+        // Horner form of u0 + d1 dt + d2 dt^2/2 + d3 dt^3/6.
+        self.values[vr] + dt * (d[0] + dt * (d[1] / 2.0 + dt * d[2] / 6.0))
+    }
+    /// First time derivative of Real input `vr` at time `t`.
+    pub fn real_rate_at(&self, vr: u32, t: f64) -> f64 {
+        let vr = vr as usize;
+        let dt = t - self.t0;
+        let d = &self.derivatives[vr];
+        d[0] + dt * (d[1] + dt * d[2] / 2.0)
+    }
+}
+
+/// Where a model sends its log messages (the instance's logger, with category filtering).
+pub trait Log {
+    /// Debug message in a model category (e.g. "logSolverStatistics"); shown only when enabled.
+    fn debug(&mut self, category: &str, message: &str);
+    /// A warning (always shown).
+    fn warning(&mut self, message: &str);
+}
+
+/// Result of a model's step.
+#[derive(Clone, Debug, PartialEq)]
+pub enum StepOutcome {
+    Ok,
+    /// The step could not be completed; the model reached `reached_time` and keeps that state.
+    /// The instance reports fmi2Discard and fmi2LastSuccessfulTime = `reached_time`.
+    Discard { reason: String, reached_time: f64 },
+    /// Unrecoverable: the instance goes to the error state.
+    Error(String),
+}
+
+/// A model behind an FMU. The layer owns a `Store` with all variable values; the model is built from
+/// the parameter values when initialization mode is left (or earlier, when outputs are read in
+/// initialization mode) and then advanced by `do_step`.
+pub trait Model: Clone + Send + Sized + 'static {
+    /// The model's interface (built once per instance; keep it cheap).
+    fn info() -> ModelInfo;
+
+    /// Builds the model from the parameter values in `store` (validate them here: a bad parameter
+    /// returns a clear message, the instance reports fmi2Error). Inputs in `store` hold their values
+    /// at the start time.
+    fn new(store: &Store, start_time: f64, log: &mut dyn Log) -> Result<Self, String>;
+
+    /// Advances from `t` to `t + h` with inputs following `inputs`. Never panics on bad data:
+    /// returns `Discard` or `Error` with a reason.
+    fn do_step(&mut self, t: f64, h: f64, inputs: &Inputs, log: &mut dyn Log) -> StepOutcome;
+
+    /// Writes all outputs (and other calculated variables) into `store`.
+    fn write_outputs(&self, store: &mut Store);
+
+    /// `order`-th time derivative of Real output `vr` at the current time, if the model provides it.
+    fn output_derivative(&self, vr: u32, order: i32) -> Option<f64>;
+
+    /// Serialized model state; with `deserialize` it must continue bit-identically.
+    fn serialize(&self) -> Vec<u8>;
+    fn deserialize(bytes: &[u8]) -> Result<Self, String>;
+}

@@ -1,0 +1,79 @@
+//! Building and packing the FMUs, and the generated modelDescription.xml files.
+
+use super::{cargo, root, run};
+use fmi2::{Model, ModelInfo};
+use std::io::Write;
+
+/// Every FMU we ship or test: (cargo package, library file stem, interface).
+fn fmus_table() -> Vec<(&'static str, &'static str, ModelInfo, bool)> {
+    vec![
+        // (package, lib stem, info, shipped: has a checked-in modelDescriptions/<id>.xml)
+        ("fmu-oscillator", "fmu_oscillator", fmu_oscillator::Oscillator::info(), false),
+    ]
+}
+
+/// `--features` for a clippy run over the export code of every FMU crate.
+pub fn features() -> String {
+    fmus_table().iter().map(|(pkg, ..)| format!("{pkg}/fmu")).collect::<Vec<_>>().join(",")
+}
+
+pub fn fmus() -> Result<(), String> {
+    let table = fmus_table();
+    let mut cmd = cargo();
+    cmd.args(["build", "--release", "--lib"]);
+    for (pkg, ..) in &table {
+        cmd.args(["-p", pkg]);
+    }
+    let features: Vec<String> = table.iter().map(|(pkg, ..)| format!("{pkg}/fmu")).collect();
+    cmd.args(["--features", &features.join(",")]);
+    run("build FMU binaries", &mut cmd)?;
+    let out_dir = root().join("target/fmu");
+    std::fs::create_dir_all(&out_dir).map_err(|e| e.to_string())?;
+    for (_, stem, info, _) in &table {
+        let so = root().join(format!("target/release/lib{stem}.so"));
+        let fmu = out_dir.join(format!("{}.fmu", info.model_identifier));
+        pack(info, &so, &fmu)?;
+        eprintln!("    packed {}", fmu.display());
+    }
+    Ok(())
+}
+
+fn pack(info: &ModelInfo, so: &std::path::Path, fmu: &std::path::Path) -> Result<(), String> {
+    let binary = std::fs::read(so).map_err(|e| format!("{}: {e}", so.display()))?;
+    let file = std::fs::File::create(fmu).map_err(|e| format!("{}: {e}", fmu.display()))?;
+    let mut zip = zip::ZipWriter::new(file);
+    let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    let entries: [(String, Vec<u8>); 3] = [
+        ("modelDescription.xml".into(), fmi2::xml::model_description(info).into_bytes()),
+        (format!("binaries/linux64/{}.so", info.model_identifier), binary),
+        ("documentation/index.html".into(), fmi2::xml::documentation(info).into_bytes()),
+    ];
+    for (name, data) in entries {
+        zip.start_file(name, opts).map_err(|e| e.to_string())?;
+        zip.write_all(&data).map_err(|e| e.to_string())?;
+    }
+    zip.finish().map_err(|e| e.to_string())?;
+    Ok(())
+}
+
+/// Writes (or with `check`, compares) modelDescriptions/<id>.xml for the shipped FMUs.
+pub fn descriptions(check: bool) -> Result<(), String> {
+    let dir = root().join("modelDescriptions");
+    for (_, _, info, shipped) in fmus_table() {
+        if !shipped {
+            continue;
+        }
+        let path = dir.join(format!("{}.xml", info.model_identifier));
+        let xml = fmi2::xml::model_description(&info);
+        if check {
+            let on_disk = std::fs::read_to_string(&path).unwrap_or_default();
+            if on_disk != xml {
+                return Err(format!("{} is not what the code generates: run `cargo xtask descriptions`", path.display()));
+            }
+        } else {
+            std::fs::write(&path, xml).map_err(|e| format!("{}: {e}", path.display()))?;
+            eprintln!("    wrote {}", path.display());
+        }
+    }
+    Ok(())
+}
