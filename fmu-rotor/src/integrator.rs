@@ -301,6 +301,16 @@ impl GglBdf {
         let mut r = vec![0.0; nw];
         let mut psi = vec![0.0; ny];
         let mut yp = vec![0.0; ny];
+        if self.prev.is_none() && self.t < t_end {
+            // First step ever: the inputs at t0 are only known now; start from the consistent
+            // accelerations they imply, so the order-1 predictor is consistent.
+            inputs(self.t, &mut u)?;
+            let (x, v) = self.y.split_at(nq);
+            let (a0, lam) =
+                ggl::consistent_acceleration(&self.sys, &self.g_mat, self.t, x, v, &u, &mut work)?;
+            self.yd[nq..].copy_from_slice(&a0);
+            self.lam = lam;
+        }
         while self.t < t_end {
             let remaining = t_end - self.t;
             let mut h = self.h_ctrl.min(self.tol.h_max_s);

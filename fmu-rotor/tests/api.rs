@@ -1,0 +1,124 @@
+//! Parameter validation, bad inputs, clone/serialize determinism, output derivatives.
+use fmu_rotor::*;
+
+fn forces(t: f64) -> BearingForces {
+    BearingForces {
+        fc_x_n: 2.0 * (4000.0 * t).sin(),
+        fc_y_n: 4.0 + t,
+        ft_x_n: -1.0,
+        ft_y_n: 3.0 * (5000.0 * t).cos(),
+    }
+}
+
+#[test]
+fn invalid_parameters_are_reported() {
+    let cases: Vec<(&str, Box<dyn Fn(&mut RotorParams)>)> = vec![
+        ("m", Box::new(|p| p.m_kg = -1.0)),
+        ("J_t", Box::new(|p| p.j_t_kg_m2 = 0.0)),
+        ("J_p", Box::new(|p| p.j_p_kg_m2 = -1e-6)),
+        ("c_C", Box::new(|p| p.c_c_n_m = -5.0)),
+        ("t_ramp", Box::new(|p| p.t_ramp_s = 0.0)),
+        ("g", Box::new(|p| p.g_m_s2 = f64::NAN)),
+        (
+            "imbalance mass",
+            Box::new(|p| p.imbalance[0].mass_kg = -1e-3),
+        ),
+    ];
+    for (name, f) in cases {
+        let mut p = RotorParams::paper();
+        f(&mut p);
+        let e = Rotor::new(p).unwrap_err();
+        println!("{e}");
+        assert!(
+            matches!(e, RotorError::InvalidParameter { name: n, .. } if n == name),
+            "{name}: {e}"
+        );
+    }
+    assert!(RotorParams::paper().validate().is_ok());
+}
+
+#[test]
+fn nan_force_and_bad_times_are_errors_not_panics() {
+    let mut r = Rotor::new(RotorParams::paper()).unwrap();
+    r.advance(0.0, 1e-5, &forces).unwrap();
+    let before = r.outputs();
+    let e = r
+        .advance(1e-5, 1e-5, &|_| BearingForces {
+            fc_x_n: f64::NAN,
+            ..Default::default()
+        })
+        .unwrap_err();
+    println!("{e}");
+    assert!(matches!(e, RotorError::InvalidInput(_)));
+    assert_eq!(
+        before,
+        r.outputs(),
+        "a rejected input must not change the state"
+    );
+    assert!(r.advance(1e-5, -1.0, &forces).is_err());
+    assert!(r.advance(5.0, 1e-5, &forces).is_err());
+    r.advance(1e-5, 1e-5, &forces).unwrap();
+}
+
+fn run(r: &mut Rotor, n0: usize, n1: usize) -> Vec<RotorOutputs> {
+    let h = 1e-5;
+    (n0..n1)
+        .map(|n| {
+            r.advance(n as f64 * h, h, &forces).unwrap();
+            r.outputs()
+        })
+        .collect()
+}
+
+#[test]
+fn clone_and_serialize_continue_bit_identically() {
+    let mut p = RotorParams::paper();
+    p.imbalance[0].mass_kg = 1e-4;
+    p.imbalance[0].radius_m = 0.01;
+    p.t_ramp_s = 0.05;
+    let mut a = Rotor::new(p).unwrap();
+    run(&mut a, 0, 300);
+    let mut b = a.clone();
+    let blob = bincode::serialize(&a).unwrap();
+    let mut c: Rotor = bincode::deserialize(&blob).unwrap();
+    let ra = run(&mut a, 300, 600);
+    let rb = run(&mut b, 300, 600);
+    let rc = run(&mut c, 300, 600);
+    for i in 0..ra.len() {
+        for (x, y) in [(ra[i], rb[i]), (ra[i], rc[i])] {
+            assert_eq!(x.bearing_c.dx_m.to_bits(), y.bearing_c.dx_m.to_bits());
+            assert_eq!(x.bearing_t.vy_m_s.to_bits(), y.bearing_t.vy_m_s.to_bits());
+            assert_eq!(x, y);
+        }
+    }
+    println!(
+        "state blob {} bytes; restored copies identical over 300 further steps",
+        blob.len()
+    );
+}
+
+#[test]
+fn output_derivatives_match_finite_differences() {
+    let mut p = RotorParams::paper();
+    p.t_ramp_s = 0.05;
+    let mut r = Rotor::with_linear_films(p, [FilmCoefficients::isotropic(2e6, 100.0); 2]).unwrap();
+    let h = 1e-6;
+    let mut t = 0.0;
+    for _ in 0..2000 {
+        r.advance(t, h, &forces).unwrap();
+        t += h;
+    }
+    let o0 = r.outputs();
+    let d0 = r.output_derivatives();
+    r.advance(t, h, &forces).unwrap();
+    let o1 = r.outputs();
+    let fd_v = (o1.bearing_c.vx_m_s - o0.bearing_c.vx_m_s) / h;
+    let fd_x = (o1.bearing_c.dx_m - o0.bearing_c.dx_m) / h;
+    println!(
+        "d(vx_C)/dt: output derivative {:.5e}, finite difference {:.5e}",
+        d0.bearing_c.dvx_m_s2, fd_v
+    );
+    assert_eq!(d0.bearing_c.ddx_m_s, o0.bearing_c.vx_m_s);
+    assert!((fd_x - d0.bearing_c.ddx_m_s).abs() < 0.02 * d0.bearing_c.ddx_m_s.abs().max(1e-4));
+    assert!((fd_v - d0.bearing_c.dvx_m_s2).abs() < 0.02 * d0.bearing_c.dvx_m_s2.abs().max(1.0));
+}
