@@ -322,8 +322,11 @@ impl GglBdf {
             if remaining <= h * (1.0 + 1e-9) {
                 h = remaining;
                 clamped = true;
-            } else if remaining < 2.0 * h {
-                h = 0.5 * remaining;
+            } else if remaining < 8.0 * h {
+                // Split the rest of the interval into equal steps: successive communication
+                // intervals then repeat the same step size and reuse the factorization.
+                let n = (remaining / h * (1.0 - 1e-9)).ceil();
+                h = remaining / n;
                 clamped = true;
             }
             let mut jac_fresh = false;
@@ -337,7 +340,11 @@ impl GglBdf {
                     self.totals.accumulate(&stats);
                     return Err(e);
                 }
-                let t1 = if h == remaining { t_end } else { self.t + h };
+                let t1 = if h == remaining || self.t + h > t_end {
+                    t_end
+                } else {
+                    self.t + h
+                };
                 let order2 = self.prev.is_some();
                 let beta;
                 if let Some((tp, yprev)) = &self.prev {

@@ -15,6 +15,7 @@ pub mod linalg;
 pub mod linear;
 pub mod params;
 pub mod rotor;
+pub mod shell;
 pub mod system;
 
 pub use integrator::StepStats;

@@ -26,6 +26,8 @@ pub struct LateralMatrices {
     /// Axial offsets of the journals from the rotor CM, z_J - z_cm [m] (C, T).
     pub a_c_m: f64,
     pub a_t_m: f64,
+    /// Axial position of the rotor CM [m].
+    pub z_cm_m: f64,
     pub omega_rad_s: f64,
 }
 
@@ -54,6 +56,7 @@ pub fn lateral_matrices(
         k: [[0.0; 8]; 8],
         a_c_m: p.z_jc_m - p.z_cm_m,
         a_t_m: p.z_jt_m - p.z_cm_m,
+        z_cm_m: p.z_cm_m,
         omega_rad_s,
     };
     let mut c = [[0.0; 8]; 8];
@@ -112,6 +115,15 @@ pub struct ModeShape {
     pub journal_t: [C64; 2],
     pub ring_c: [C64; 2],
     pub ring_t: [C64; 2],
+    /// Axial position [m, same origin as the params] where the rotor axis' orbit is smallest
+    /// (least squares over x and y); the "vibration node" of a conical mode.
+    pub rotor_node_z_m: f64,
+    /// Orbit size at that point relative to the largest bearing-point orbit (0 = true node).
+    pub rotor_node_residual: f64,
+}
+
+fn dofn_scale(z: C64, s: f64) -> C64 {
+    z.scale(s)
 }
 
 fn amp(p: &[C64; 2]) -> f64 {
@@ -141,13 +153,15 @@ impl ModeShape {
         let a = self.amplitudes();
         let ring_dominated = a[2].max(a[3]) > a[0].max(a[1]);
         format!(
-            "|J_C|={:.3} |J_T|={:.3} |R_C|={:.3} |R_T|={:.3}: {} mode, node at {} bearing",
+            "|J_C|={:.3} |J_T|={:.3} |R_C|={:.3} |R_T|={:.3}: {} mode, smaller journal orbit at {}, rotor-axis node at z = {:.0} mm (residual {:.2})",
             a[0],
             a[1],
             a[2],
             a[3],
             if ring_dominated { "ring" } else { "rotor" },
-            self.node()
+            self.node(),
+            1e3 * self.rotor_node_z_m,
+            self.rotor_node_residual
         )
     }
 }
@@ -209,6 +223,23 @@ pub fn modes(lm: &LateralMatrices) -> Result<Vec<Mode>, RotorError> {
             .iter()
             .map(|p| p[0].conj().mul(p[1]).im)
             .sum();
+        // rotor orbit at axial offset s from the CM: U0 + s U1, U0 = (x, y), U1 = (beta, -alpha)
+        let u0 = [dofn_scale(dof[0], s), dofn_scale(dof[1], s)];
+        let u1 = [dofn_scale(dof[3], s), dofn_scale(dof[2], -s)];
+        let n1 = u1[0].abs().powi(2) + u1[1].abs().powi(2);
+        let node_s = if n1 > 0.0 {
+            -(u1[0].conj().mul(u0[0]).re + u1[1].conj().mul(u0[1]).re) / n1
+        } else {
+            f64::INFINITY
+        };
+        let node_res = if n1 > 0.0 {
+            amp(&[
+                u0[0].add(u1[0].scale(node_s)),
+                u0[1].add(u1[1].scale(node_s)),
+            ])
+        } else {
+            amp(&u0)
+        };
         let mut dofn = dof;
         for z in dofn.iter_mut() {
             *z = z.scale(s);
@@ -228,6 +259,8 @@ pub fn modes(lm: &LateralMatrices) -> Result<Vec<Mode>, RotorError> {
                 journal_t: sc(jt),
                 ring_c: sc(rc),
                 ring_t: sc(rt),
+                rotor_node_z_m: lm.z_cm_m + node_s,
+                rotor_node_residual: node_res,
             },
         });
     }

@@ -1,0 +1,554 @@
+//! The FMU shell: the variable table of `rotor.fmu` and the `fmi2::Model` implementation over
+//! [`Rotor`]. The multibody library knows nothing of this module.
+//!
+//! Value references are part of the product (third-party masters store them): append, never renumber.
+
+use crate::{BearingForces, Imbalance, Rotor, RotorError, RotorParams};
+use fmi2::{DefaultExperiment, Inputs, Log, Model, ModelInfo, StepOutcome, Store, Variable};
+use serde::{Deserialize, Serialize};
+
+/// Real value references (Integer ones at the end).
+pub mod vr {
+    pub const M: u32 = 0;
+    pub const J_T: u32 = 1;
+    pub const J_P: u32 = 2;
+    pub const Z_CM: u32 = 3;
+    pub const Z_JC: u32 = 4;
+    pub const Z_JT: u32 = 5;
+    pub const M_R_C: u32 = 6;
+    pub const M_R_T: u32 = 7;
+    pub const C_C: u32 = 8;
+    pub const D_C: u32 = 9;
+    pub const C_T: u32 = 10;
+    pub const D_T: u32 = 11;
+    pub const G: u32 = 12;
+    pub const F_MAX: u32 = 13;
+    pub const T_RAMP: u32 = 14;
+    /// Imbalance masses: (mass, radius, z, phase) for the compressor wheel, then the turbine wheel.
+    pub const IMB_C: u32 = 15;
+    pub const IMB_T: u32 = 19;
+    pub const RTOL: u32 = 23;
+    pub const ATOL: u32 = 24;
+    pub const H_MAX: u32 = 25;
+    pub const F_C_X: u32 = 26;
+    pub const F_C_Y: u32 = 27;
+    pub const F_T_X: u32 = 28;
+    pub const F_T_Y: u32 = 29;
+    pub const DX_C: u32 = 30;
+    pub const DY_C: u32 = 31;
+    pub const VX_C: u32 = 32;
+    pub const VY_C: u32 = 33;
+    pub const DX_T: u32 = 34;
+    pub const DY_T: u32 = 35;
+    pub const VX_T: u32 = 36;
+    pub const VY_T: u32 = 37;
+    pub const OMEGA: u32 = 38;
+    pub const X_JC: u32 = 39;
+    pub const Y_JC: u32 = 40;
+    pub const X_JT: u32 = 41;
+    pub const Y_JT: u32 = 42;
+    pub const X_RC: u32 = 43;
+    pub const Y_RC: u32 = 44;
+    pub const X_RT: u32 = 45;
+    pub const Y_RT: u32 = 46;
+    pub const TILT_X: u32 = 47;
+    pub const TILT_Y: u32 = 48;
+    pub const SPIN_ANGLE: u32 = 49;
+    pub const DRIFT_POS: u32 = 50;
+    pub const DRIFT_VEL: u32 = 51;
+    /// Integer value references.
+    pub const N_STEPS: u32 = 0;
+    pub const N_REJECTED: u32 = 1;
+    pub const N_NEWTON: u32 = 2;
+}
+
+const DOC: &str = include_str!("shell_doc.html");
+
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RotorFmu {
+    rotor: Rotor,
+}
+
+fn params_from(s: &Store) -> RotorParams {
+    let mut p = RotorParams::paper();
+    p.m_kg = s.real(vr::M);
+    p.j_t_kg_m2 = s.real(vr::J_T);
+    p.j_p_kg_m2 = s.real(vr::J_P);
+    p.z_cm_m = s.real(vr::Z_CM);
+    p.z_jc_m = s.real(vr::Z_JC);
+    p.z_jt_m = s.real(vr::Z_JT);
+    p.m_r_c_kg = s.real(vr::M_R_C);
+    p.m_r_t_kg = s.real(vr::M_R_T);
+    p.c_c_n_m = s.real(vr::C_C);
+    p.d_c_n_s_m = s.real(vr::D_C);
+    p.c_t_n_m = s.real(vr::C_T);
+    p.d_t_n_s_m = s.real(vr::D_T);
+    p.g_m_s2 = s.real(vr::G);
+    p.f_max_hz = s.real(vr::F_MAX);
+    p.t_ramp_s = s.real(vr::T_RAMP);
+    for (k, base) in [vr::IMB_C, vr::IMB_T].into_iter().enumerate() {
+        p.imbalance[k] = Imbalance {
+            mass_kg: s.real(base),
+            radius_m: s.real(base + 1),
+            z_m: s.real(base + 2),
+            phase_rad: s.real(base + 3),
+        };
+    }
+    p.rtol = s.real(vr::RTOL);
+    p.atol = s.real(vr::ATOL);
+    p.h_max_s = s.real(vr::H_MAX);
+    p
+}
+
+fn imbalance_vars(side: &'static [&'static str; 4], base: u32, d: &Imbalance) -> Vec<Variable> {
+    vec![
+        Variable::real_parameter(
+            side[0],
+            base,
+            d.mass_kg,
+            "kg",
+            "imbalance mass on the wheel",
+        )
+        .display("g"),
+        Variable::real_parameter(
+            side[1],
+            base + 1,
+            d.radius_m,
+            "m",
+            "radius of the imbalance mass",
+        )
+        .display("mm"),
+        Variable::real_parameter(
+            side[2],
+            base + 2,
+            d.z_m,
+            "m",
+            "axial position of the imbalance mass (from the turbine-side end)",
+        )
+        .display("mm"),
+        Variable::real_parameter(
+            side[3],
+            base + 3,
+            d.phase_rad,
+            "rad",
+            "angle of the imbalance mass in the rotor frame",
+        )
+        .display("deg"),
+    ]
+}
+
+impl Model for RotorFmu {
+    fn info() -> ModelInfo {
+        let p = RotorParams::paper();
+        use Variable as V;
+        let mut variables = vec![
+            V::real_parameter(
+                "m",
+                vr::M,
+                p.m_kg,
+                "kg",
+                "rotor mass (shaft and both wheels)",
+            )
+            .display("g"),
+            V::real_parameter(
+                "J_t",
+                vr::J_T,
+                p.j_t_kg_m2,
+                "kg.m2",
+                "transverse moment of inertia about the centre of mass",
+            )
+            .display("kg.mm2"),
+            V::real_parameter(
+                "J_p",
+                vr::J_P,
+                p.j_p_kg_m2,
+                "kg.m2",
+                "polar moment of inertia",
+            )
+            .display("kg.mm2"),
+            V::real_parameter(
+                "z_cm",
+                vr::Z_CM,
+                p.z_cm_m,
+                "m",
+                "axial position of the centre of mass (from the turbine-side end)",
+            )
+            .display("mm"),
+            V::real_parameter(
+                "z_JC",
+                vr::Z_JC,
+                p.z_jc_m,
+                "m",
+                "axial position of the compressor-side bearing mid-plane",
+            )
+            .display("mm"),
+            V::real_parameter(
+                "z_JT",
+                vr::Z_JT,
+                p.z_jt_m,
+                "m",
+                "axial position of the turbine-side bearing mid-plane",
+            )
+            .display("mm"),
+            V::real_parameter(
+                "m_R_C",
+                vr::M_R_C,
+                p.m_r_c_kg,
+                "kg",
+                "mass of the compressor-side bearing ring",
+            )
+            .display("g"),
+            V::real_parameter(
+                "m_R_T",
+                vr::M_R_T,
+                p.m_r_t_kg,
+                "kg",
+                "mass of the turbine-side bearing ring",
+            )
+            .display("g"),
+            V::real_parameter(
+                "c_C",
+                vr::C_C,
+                p.c_c_n_m,
+                "N/m",
+                "stiffness of the compressor-side ring mount",
+            )
+            .display("N/mm"),
+            V::real_parameter(
+                "d_C",
+                vr::D_C,
+                p.d_c_n_s_m,
+                "N.s/m",
+                "damping of the compressor-side ring mount",
+            ),
+            V::real_parameter(
+                "c_T",
+                vr::C_T,
+                p.c_t_n_m,
+                "N/m",
+                "stiffness of the turbine-side ring mount",
+            )
+            .display("N/mm"),
+            V::real_parameter(
+                "d_T",
+                vr::D_T,
+                p.d_t_n_s_m,
+                "N.s/m",
+                "damping of the turbine-side ring mount",
+            ),
+            V::real_parameter("g", vr::G, p.g_m_s2, "m/s2", "gravity (acts in -y)"),
+            V::real_parameter(
+                "f_max",
+                vr::F_MAX,
+                p.f_max_hz,
+                "Hz",
+                "final rotor speed of the linear run-up",
+            ),
+            V::real_parameter(
+                "t_ramp",
+                vr::T_RAMP,
+                p.t_ramp_s,
+                "s",
+                "duration of the linear run-up to f_max",
+            )
+            .display("ms"),
+        ];
+        variables.extend(imbalance_vars(
+            &["m_imb_C", "r_imb_C", "z_imb_C", "phase_imb_C"],
+            vr::IMB_C,
+            &p.imbalance[0],
+        ));
+        variables.extend(imbalance_vars(
+            &["m_imb_T", "r_imb_T", "z_imb_T", "phase_imb_T"],
+            vr::IMB_T,
+            &p.imbalance[1],
+        ));
+        variables.extend([
+            V::real_parameter(
+                "rtol",
+                vr::RTOL,
+                p.rtol,
+                "1",
+                "relative tolerance of the BDF error control",
+            ),
+            V::real_parameter(
+                "atol",
+                vr::ATOL,
+                p.atol,
+                "m",
+                "absolute position tolerance of the error control",
+            )
+            .display("um"),
+            V::real_parameter("h_max", vr::H_MAX, p.h_max_s, "s", "largest internal step")
+                .display("ms"),
+            V::real_input(
+                "F_C_x",
+                vr::F_C_X,
+                0.0,
+                "N",
+                "air-film force on the compressor-side journal, x (the ring feels the opposite)",
+            ),
+            V::real_input(
+                "F_C_y",
+                vr::F_C_Y,
+                0.0,
+                "N",
+                "air-film force on the compressor-side journal, y",
+            ),
+            V::real_input(
+                "F_T_x",
+                vr::F_T_X,
+                0.0,
+                "N",
+                "air-film force on the turbine-side journal, x",
+            ),
+            V::real_input(
+                "F_T_y",
+                vr::F_T_Y,
+                0.0,
+                "N",
+                "air-film force on the turbine-side journal, y",
+            ),
+            V::real_output(
+                "dx_C",
+                vr::DX_C,
+                "m",
+                "compressor-side journal relative to its ring, x",
+            )
+            .display("um"),
+            V::real_output(
+                "dy_C",
+                vr::DY_C,
+                "m",
+                "compressor-side journal relative to its ring, y",
+            )
+            .display("um"),
+            V::real_output(
+                "vx_C",
+                vr::VX_C,
+                "m/s",
+                "relative velocity, compressor side, x",
+            )
+            .display("mm/s"),
+            V::real_output(
+                "vy_C",
+                vr::VY_C,
+                "m/s",
+                "relative velocity, compressor side, y",
+            )
+            .display("mm/s"),
+            V::real_output(
+                "dx_T",
+                vr::DX_T,
+                "m",
+                "turbine-side journal relative to its ring, x",
+            )
+            .display("um"),
+            V::real_output(
+                "dy_T",
+                vr::DY_T,
+                "m",
+                "turbine-side journal relative to its ring, y",
+            )
+            .display("um"),
+            V::real_output(
+                "vx_T",
+                vr::VX_T,
+                "m/s",
+                "relative velocity, turbine side, x",
+            )
+            .display("mm/s"),
+            V::real_output(
+                "vy_T",
+                vr::VY_T,
+                "m/s",
+                "relative velocity, turbine side, y",
+            )
+            .display("mm/s"),
+            V::real_output("omega", vr::OMEGA, "rad/s", "rotor speed").display("Hz"),
+            V::real_output(
+                "x_JC",
+                vr::X_JC,
+                "m",
+                "absolute compressor-side journal position, x",
+            )
+            .display("um"),
+            V::real_output(
+                "y_JC",
+                vr::Y_JC,
+                "m",
+                "absolute compressor-side journal position, y",
+            )
+            .display("um"),
+            V::real_output(
+                "x_JT",
+                vr::X_JT,
+                "m",
+                "absolute turbine-side journal position, x",
+            )
+            .display("um"),
+            V::real_output(
+                "y_JT",
+                vr::Y_JT,
+                "m",
+                "absolute turbine-side journal position, y",
+            )
+            .display("um"),
+            V::real_output("x_RC", vr::X_RC, "m", "compressor-side ring position, x").display("um"),
+            V::real_output("y_RC", vr::Y_RC, "m", "compressor-side ring position, y").display("um"),
+            V::real_output("x_RT", vr::X_RT, "m", "turbine-side ring position, x").display("um"),
+            V::real_output("y_RT", vr::Y_RT, "m", "turbine-side ring position, y").display("um"),
+            V::real_output(
+                "tilt_x",
+                vr::TILT_X,
+                "rad",
+                "rotor tilt angle about x (Cardan)",
+            )
+            .display("deg"),
+            V::real_output(
+                "tilt_y",
+                vr::TILT_Y,
+                "rad",
+                "rotor tilt angle about y (Cardan)",
+            )
+            .display("deg"),
+            V::real_output("spin_angle", vr::SPIN_ANGLE, "rad", "rotor spin angle"),
+            V::real_output(
+                "drift_pos",
+                vr::DRIFT_POS,
+                "1",
+                "largest position-level constraint residual |g| of the last step",
+            ),
+            V::real_output(
+                "drift_vel",
+                vr::DRIFT_VEL,
+                "1",
+                "largest velocity-level constraint residual of the last step",
+            ),
+            V::integer_output("n_steps", vr::N_STEPS, "accepted internal BDF steps so far"),
+            V::integer_output(
+                "n_rejected",
+                vr::N_REJECTED,
+                "rejected internal steps so far",
+            ),
+            V::integer_output("n_newton", vr::N_NEWTON, "Newton iterations so far"),
+        ]);
+        ModelInfo {
+            model_name: "rotor",
+            model_identifier: "rotor",
+            description: "Rigid turbo-compressor rotor with two visco-elastically mounted bearing rings (GGL stabilized index-2 multibody model)",
+            version: env!("CARGO_PKG_VERSION"),
+            variables,
+            log_categories: vec![("logSolverStatistics", "steps, Newton iterations and constraint drift per communication step")],
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 0.1, tolerance: 1e-4, step_size: 1e-5 },
+            documentation_html: DOC,
+        }
+    }
+
+    fn new(store: &Store, start_time: f64, _log: &mut dyn Log) -> Result<Self, String> {
+        if start_time != 0.0 {
+            return Err(format!(
+                "the run-up profile starts at t = 0; startTime {start_time} s is not supported"
+            ));
+        }
+        let params = params_from(store);
+        params.validate().map_err(|e| e.to_string())?;
+        Ok(RotorFmu {
+            rotor: Rotor::new(params).map_err(|e| e.to_string())?,
+        })
+    }
+
+    fn do_step(&mut self, t: f64, h: f64, inputs: &Inputs, log: &mut dyn Log) -> StepOutcome {
+        let forces = |tt: f64| BearingForces {
+            fc_x_n: inputs.real_at(vr::F_C_X, tt),
+            fc_y_n: inputs.real_at(vr::F_C_Y, tt),
+            ft_x_n: inputs.real_at(vr::F_T_X, tt),
+            ft_y_n: inputs.real_at(vr::F_T_Y, tt),
+        };
+        match self.rotor.advance(t, h, &forces) {
+            Ok(s) => {
+                log.debug(
+                    "logSolverStatistics",
+                    &format!(
+                        "t = {:.9} s: {} steps ({} rejected), {} Newton iterations, drift {:.2e} / {:.2e}",
+                        t + h,
+                        s.steps,
+                        s.rejected_steps,
+                        s.newton_iterations,
+                        s.max_drift_pos,
+                        s.max_drift_vel
+                    ),
+                );
+                StepOutcome::Ok
+            }
+            Err(e @ RotorError::StepFailure { .. }) => StepOutcome::Discard {
+                reason: e.to_string(),
+                reached_time: self.rotor.time_s(),
+            },
+            Err(e) => StepOutcome::Error(e.to_string()),
+        }
+    }
+
+    fn write_outputs(&self, store: &mut Store) {
+        let o = self.rotor.outputs();
+        let r = &mut store.reals;
+        for (base, b) in [(vr::DX_C, &o.bearing_c), (vr::DX_T, &o.bearing_t)] {
+            let base = base as usize;
+            r[base] = b.dx_m;
+            r[base + 1] = b.dy_m;
+            r[base + 2] = b.vx_m_s;
+            r[base + 3] = b.vy_m_s;
+        }
+        r[vr::OMEGA as usize] = o.omega_rad_s;
+        r[vr::X_JC as usize] = o.bearing_c.journal_m[0];
+        r[vr::Y_JC as usize] = o.bearing_c.journal_m[1];
+        r[vr::X_JT as usize] = o.bearing_t.journal_m[0];
+        r[vr::Y_JT as usize] = o.bearing_t.journal_m[1];
+        r[vr::X_RC as usize] = o.bearing_c.ring_m[0];
+        r[vr::Y_RC as usize] = o.bearing_c.ring_m[1];
+        r[vr::X_RT as usize] = o.bearing_t.ring_m[0];
+        r[vr::Y_RT as usize] = o.bearing_t.ring_m[1];
+        r[vr::TILT_X as usize] = o.tilt_x_rad;
+        r[vr::TILT_Y as usize] = o.tilt_y_rad;
+        r[vr::SPIN_ANGLE as usize] = o.spin_angle_rad;
+        r[vr::DRIFT_POS as usize] = o.drift_pos;
+        r[vr::DRIFT_VEL as usize] = o.drift_vel;
+        let s = &self.rotor.integrator().totals;
+        let clamp = |n: u64| n.min(i32::MAX as u64) as i32;
+        store.integers[vr::N_STEPS as usize] = clamp(s.steps);
+        store.integers[vr::N_REJECTED as usize] = clamp(s.rejected_steps);
+        store.integers[vr::N_NEWTON as usize] = clamp(s.newton_iterations);
+    }
+
+    fn output_derivative(&self, vr: u32, order: i32) -> Option<f64> {
+        if order != 1 {
+            return None;
+        }
+        let d = self.rotor.output_derivatives();
+        let o = self.rotor.outputs();
+        Some(match vr {
+            vr::DX_C => d.bearing_c.ddx_m_s,
+            vr::DY_C => d.bearing_c.ddy_m_s,
+            vr::VX_C => d.bearing_c.dvx_m_s2,
+            vr::VY_C => d.bearing_c.dvy_m_s2,
+            vr::DX_T => d.bearing_t.ddx_m_s,
+            vr::DY_T => d.bearing_t.ddy_m_s,
+            vr::VX_T => d.bearing_t.dvx_m_s2,
+            vr::VY_T => d.bearing_t.dvy_m_s2,
+            vr::OMEGA => d.domega_rad_s2,
+            vr::SPIN_ANGLE => o.omega_rad_s,
+            _ => return None,
+        })
+    }
+
+    fn serialize(&self) -> Vec<u8> {
+        bincode::serialize(self).expect("the rotor state serializes")
+    }
+
+    fn deserialize(bytes: &[u8]) -> Result<Self, String> {
+        bincode::deserialize(bytes).map_err(|e| format!("not a rotor state: {e}"))
+    }
+}
+
+#[cfg(feature = "fmu")]
+fmi2::export_fmu!(RotorFmu);
