@@ -18,6 +18,7 @@ pub mod linsolve;
 pub mod mesh;
 pub mod params;
 pub mod reynolds;
+pub mod shell;
 pub mod steady;
 pub mod verify;
 

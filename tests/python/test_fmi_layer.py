@@ -9,7 +9,7 @@ from fmpy.validation import validate_fmu
 
 from conftest import fmu_path
 
-SHIPPED = ["oscillator"]
+SHIPPED = ["oscillator", "airfilm", "rotor"]
 
 
 @pytest.mark.parametrize("name", SHIPPED)

@@ -5,7 +5,7 @@ use integration_tests::fmu_path;
 use std::collections::BTreeSet;
 use std::process::Command;
 
-pub const FMUS: &[&str] = &["oscillator"];
+pub const FMUS: &[&str] = &["oscillator", "airfilm", "rotor"];
 
 const FMI2_FUNCTIONS: [&str; 34] = [
     "fmi2GetTypesPlatform",

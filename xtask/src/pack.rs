@@ -8,6 +8,8 @@ use std::io::Write;
 fn fmus_table() -> Vec<(&'static str, &'static str, ModelInfo, bool)> {
     vec![
         // (package, lib stem, info, shipped: has a checked-in modelDescriptions/<id>.xml)
+        ("fmu-airfilm", "fmu_airfilm", fmu_airfilm::shell::AirFilmFmu::info(), true),
+        ("fmu-rotor", "fmu_rotor", fmu_rotor::shell::RotorFmu::info(), true),
         ("fmu-oscillator", "fmu_oscillator", fmu_oscillator::Oscillator::info(), false),
     ]
 }

@@ -1,0 +1,251 @@
+//! The FMU shell: the variable table of `airfilm.fmu` and the `fmi2::Model` implementation that maps
+//! FMI variables onto [`AirFilm`]. The physics knows nothing of this module.
+//!
+//! Value references are part of the product (third-party masters store them): append, never renumber.
+
+use crate::{AirFilm, BearingParams, FilmError, FilmOutputs, JournalState};
+use fmi2::{DefaultExperiment, Inputs, Log, Model, ModelInfo, StepOutcome, Store, Variable};
+use serde::{Deserialize, Serialize};
+
+/// Real value references.
+pub mod vr {
+    pub const R: u32 = 0;
+    pub const B: u32 = 1;
+    pub const C: u32 = 2;
+    pub const DH: u32 = 3;
+    pub const PHI_T: u32 = 4;
+    pub const ALPHA: u32 = 5;
+    pub const ETA: u32 = 6;
+    pub const P_A: u32 = 7;
+    pub const H_CON_REL: u32 = 8;
+    pub const C_CON: u32 = 9;
+    pub const RTOL: u32 = 10;
+    pub const ATOL: u32 = 11;
+    pub const H_MAX: u32 = 12;
+    pub const DX: u32 = 13;
+    pub const DY: u32 = 14;
+    pub const VX: u32 = 15;
+    pub const VY: u32 = 16;
+    pub const OMEGA: u32 = 17;
+    pub const FX: u32 = 18;
+    pub const FY: u32 = 19;
+    pub const EPS: u32 = 20;
+    pub const H_MIN: u32 = 21;
+    pub const P_MAX: u32 = 22;
+    pub const F_CONTACT: u32 = 23;
+    /// Integer value references.
+    pub const N_LOBES: u32 = 0;
+    pub const N_ELEM_PHI: u32 = 1;
+    pub const N_ELEM_Z: u32 = 2;
+    pub const N_SUBSTEPS: u32 = 3;
+    pub const N_NEWTON: u32 = 4;
+    pub const N_JACOBIANS: u32 = 5;
+    pub const N_REJECTED: u32 = 6;
+    /// Boolean value references.
+    pub const PLAIN_BORE: u32 = 0;
+    pub const START_STEADY: u32 = 1;
+}
+
+const DOC: &str = include_str!("shell_doc.html");
+
+/// The FMU's model: the film plus what FMI needs on top (output derivatives).
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct AirFilmFmu {
+    film: AirFilm,
+    outputs: FilmOutputs,
+    /// Forces at the previous communication point and its time, for the output derivatives.
+    previous: Option<(f64, [f64; 2])>,
+    time_s: f64,
+}
+
+fn params_from(store: &Store) -> BearingParams {
+    let mut p = BearingParams::paper();
+    p.r_m = store.real(vr::R);
+    p.b_m = store.real(vr::B);
+    p.c_m = store.real(vr::C);
+    p.dh_m = store.real(vr::DH);
+    p.phi_t_rad = store.real(vr::PHI_T);
+    p.alpha_rad = store.real(vr::ALPHA);
+    p.eta_pa_s = store.real(vr::ETA);
+    p.p_a_pa = store.real(vr::P_A);
+    p.h_con_rel = store.real(vr::H_CON_REL);
+    p.c_con_n_per_m3 = store.real(vr::C_CON);
+    p.rtol = store.real(vr::RTOL);
+    p.atol_pa = store.real(vr::ATOL);
+    p.h_max_s = store.real(vr::H_MAX);
+    p.n_lobes = store.integer(vr::N_LOBES).max(0) as usize;
+    p.n_elem_phi = store.integer(vr::N_ELEM_PHI).max(0) as usize;
+    p.n_elem_z = store.integer(vr::N_ELEM_Z).max(0) as usize;
+    p.plain_bore = store.boolean(vr::PLAIN_BORE);
+    p
+}
+
+fn journal_at(inputs: &Inputs, t: f64) -> JournalState {
+    JournalState {
+        dx_m: inputs.real_at(vr::DX, t),
+        dy_m: inputs.real_at(vr::DY, t),
+        vx_m_s: inputs.real_at(vr::VX, t),
+        vy_m_s: inputs.real_at(vr::VY, t),
+        omega_rad_s: inputs.real_at(vr::OMEGA, t),
+    }
+}
+
+impl Model for AirFilmFmu {
+    fn info() -> ModelInfo {
+        let p = BearingParams::paper();
+        use Variable as V;
+        ModelInfo {
+            model_name: "airfilm",
+            model_identifier: "airfilm",
+            description: "Air film of one three-lobe air ring bearing: isothermal compressible Reynolds equation, 9-node FE, implicit BDF, mixed-lubrication contact",
+            version: env!("CARGO_PKG_VERSION"),
+            variables: vec![
+                V::real_parameter("r", vr::R, p.r_m, "m", "journal radius").display("mm"),
+                V::real_parameter("b", vr::B, p.b_m, "m", "bearing (ring) width").display("mm"),
+                V::real_parameter("C", vr::C, p.c_m, "m", "nominal clearance (gap at each lobe's trailing edge)").display("um"),
+                V::real_parameter("dH", vr::DH, p.dh_m, "m", "step height: extra gap at each lobe's leading edge").display("um"),
+                V::real_parameter("phi_t", vr::PHI_T, p.phi_t_rad, "rad", "lobe angle, in (0, 2 pi/n_lobes)").display("deg"),
+                V::real_parameter("alpha", vr::ALPHA, p.alpha_rad, "rad", "ring orientation: global angle = ring angle + alpha (paper: pi - phi_t)")
+                    .display("deg"),
+                V::real_parameter("eta", vr::ETA, p.eta_pa_s, "Pa.s", "dynamic viscosity of the gas"),
+                V::real_parameter("p_a", vr::P_A, p.p_a_pa, "Pa", "ambient pressure").display("bar"),
+                V::real_parameter("h_con_rel", vr::H_CON_REL, p.h_con_rel, "1", "contact threshold h_con / C (mixed lubrication)"),
+                V::real_parameter("c_con", vr::C_CON, p.c_con_n_per_m3, "N/m3", "penalty stiffness of the asperity contact pressure").display("N/mm3"),
+                V::real_parameter("rtol", vr::RTOL, p.rtol, "1", "relative tolerance of the time integration's error control"),
+                V::real_parameter("atol", vr::ATOL, p.atol_pa, "Pa", "absolute pressure tolerance of the error control"),
+                V::real_parameter("h_max", vr::H_MAX, p.h_max_s, "s", "largest internal sub-step").display("ms"),
+                V::real_input("dx", vr::DX, 0.0, "m", "journal displacement relative to the ring, x (horizontal)").display("um"),
+                V::real_input("dy", vr::DY, 0.0, "m", "journal displacement relative to the ring, y (vertical, up)").display("um"),
+                V::real_input("vx", vr::VX, 0.0, "m/s", "journal velocity relative to the ring, x").display("mm/s"),
+                V::real_input("vy", vr::VY, 0.0, "m/s", "journal velocity relative to the ring, y").display("mm/s"),
+                V::real_input("omega", vr::OMEGA, 0.0, "rad/s", "rotor speed (positive: right-handed about +z)").display("Hz"),
+                V::real_output("Fx", vr::FX, "N", "force of film and contact on the journal, x (the ring feels -Fx)"),
+                V::real_output("Fy", vr::FY, "N", "force of film and contact on the journal, y (the ring feels -Fy)"),
+                V::real_output("eps", vr::EPS, "1", "eccentricity ratio |d| / C (may exceed 1 without contact)"),
+                V::real_output("h_min", vr::H_MIN, "m", "minimum gap on the lobes").display("um"),
+                V::real_output("p_max", vr::P_MAX, "Pa", "peak film pressure (absolute)").display("bar"),
+                V::real_output("F_contact", vr::F_CONTACT, "N", "magnitude of the mixed-lubrication contact force"),
+                V::integer_parameter("n_lobes", vr::N_LOBES, p.n_lobes as i32, "number of lobes").range(Some(1.0), Some(12.0)),
+                V::integer_parameter("n_elem_phi", vr::N_ELEM_PHI, p.n_elem_phi as i32, "elements along each lobe (paper: 20)")
+                    .range(Some(1.0), Some(2000.0)),
+                V::integer_parameter("n_elem_z", vr::N_ELEM_Z, p.n_elem_z as i32, "elements across the half width (paper: 6)")
+                    .range(Some(1.0), Some(500.0)),
+                V::integer_output("n_substeps", vr::N_SUBSTEPS, "accepted internal sub-steps so far"),
+                V::integer_output("n_newton", vr::N_NEWTON, "Newton iterations so far"),
+                V::integer_output("n_jacobians", vr::N_JACOBIANS, "Jacobian evaluations and factorizations so far"),
+                V::integer_output("n_rejected", vr::N_REJECTED, "rejected internal sub-steps so far"),
+                V::boolean_parameter("plain_bore", vr::PLAIN_BORE, false, "plain 360-degree bore with periodic boundary conditions (needs dH = 0)"),
+                V::boolean_parameter(
+                    "start_steady",
+                    vr::START_STEADY,
+                    false,
+                    "start from the steady pressure field at the initial inputs instead of p = p_a",
+                ),
+            ],
+            log_categories: vec![("logSolverStatistics", "sub-steps, Newton iterations and Jacobians per communication step")],
+            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 0.01, tolerance: 1e-4, step_size: 1e-5 },
+            documentation_html: DOC,
+        }
+    }
+
+    fn new(store: &Store, start_time: f64, _log: &mut dyn Log) -> Result<Self, String> {
+        let params = params_from(store);
+        params.validate().map_err(|e| e.to_string())?;
+        let mut film = AirFilm::new(params.clone()).map_err(|e| e.to_string())?;
+        let journal = JournalState {
+            dx_m: store.real(vr::DX),
+            dy_m: store.real(vr::DY),
+            vx_m_s: store.real(vr::VX),
+            vy_m_s: store.real(vr::VY),
+            omega_rad_s: store.real(vr::OMEGA),
+        };
+        journal.check_finite(start_time).map_err(|e| e.to_string())?;
+        let p_rel = if store.boolean(vr::START_STEADY) {
+            crate::steady_state(&params, journal).map_err(|e| format!("steady start: {e}"))?.p_rel
+        } else {
+            vec![1.0; film.pressures_rel().len()]
+        };
+        film.set_pressures_rel(start_time, journal, &p_rel).map_err(|e| e.to_string())?;
+        let outputs = film.outputs();
+        if outputs.h_min_m <= 0.0 {
+            return Err(FilmError::BeyondContactLimit { h_min_m: outputs.h_min_m, t_s: start_time }.to_string());
+        }
+        Ok(AirFilmFmu { film, outputs, previous: None, time_s: start_time })
+    }
+
+    fn do_step(&mut self, t: f64, h: f64, inputs: &Inputs, log: &mut dyn Log) -> StepOutcome {
+        let before = [self.outputs.fx_n, self.outputs.fy_n];
+        let result = self.film.advance(t, h, &|tt| journal_at(inputs, tt));
+        self.outputs = self.film.outputs();
+        match result {
+            Ok(stats) => {
+                self.previous = Some((t, before));
+                self.time_s = t + h;
+                log.debug(
+                    "logSolverStatistics",
+                    &format!(
+                        "t = {:.9} s: {} sub-steps ({} rejected), {} Newton iterations, {} Jacobians, last sub-step {:.3e} s",
+                        t + h,
+                        stats.n_steps,
+                        stats.n_rejected,
+                        stats.n_newton_iters,
+                        stats.n_jacobians,
+                        stats.h_last_s
+                    ),
+                );
+                StepOutcome::Ok
+            }
+            Err(e @ (FilmError::NewtonFailure { .. } | FilmError::TooManySubsteps { .. })) => {
+                let reached = self.film.time_s();
+                self.previous = None;
+                self.time_s = reached;
+                StepOutcome::Discard { reason: e.to_string(), reached_time: reached }
+            }
+            Err(e) => StepOutcome::Error(e.to_string()),
+        }
+    }
+
+    fn write_outputs(&self, store: &mut Store) {
+        let o = &self.outputs;
+        store.reals[vr::FX as usize] = o.fx_n;
+        store.reals[vr::FY as usize] = o.fy_n;
+        store.reals[vr::EPS as usize] = o.eps;
+        store.reals[vr::H_MIN as usize] = o.h_min_m;
+        store.reals[vr::P_MAX as usize] = o.p_max_pa;
+        store.reals[vr::F_CONTACT as usize] = o.f_contact_n;
+        let s = self.film.total_stats();
+        let clamp = |n: usize| n.min(i32::MAX as usize) as i32;
+        store.integers[vr::N_SUBSTEPS as usize] = clamp(s.n_steps);
+        store.integers[vr::N_NEWTON as usize] = clamp(s.n_newton_iters);
+        store.integers[vr::N_JACOBIANS as usize] = clamp(s.n_jacobians);
+        store.integers[vr::N_REJECTED as usize] = clamp(s.n_rejected);
+    }
+
+    /// First derivatives of Fx, Fy: the backward difference over the last communication step
+    /// (0 before the first step). The film has no cheaper exact rate of its force.
+    fn output_derivative(&self, vr: u32, order: i32) -> Option<f64> {
+        if order != 1 {
+            return None;
+        }
+        let rate = |now: f64, k: usize| match self.previous {
+            Some((t0, f0)) if self.time_s > t0 => (now - f0[k]) / (self.time_s - t0),
+            _ => 0.0,
+        };
+        match vr {
+            vr::FX => Some(rate(self.outputs.fx_n, 0)),
+            vr::FY => Some(rate(self.outputs.fy_n, 1)),
+            _ => None,
+        }
+    }
+
+    fn serialize(&self) -> Vec<u8> {
+        bincode::serialize(self).expect("the film state serializes")
+    }
+
+    fn deserialize(bytes: &[u8]) -> Result<Self, String> {
+        bincode::deserialize(bytes).map_err(|e| format!("not an air-film state: {e}"))
+    }
+}
+
+#[cfg(feature = "fmu")]
+fmi2::export_fmu!(AirFilmFmu);
