@@ -6,12 +6,14 @@
 use crate::params::RotorError;
 
 /// A complex number (only what inverse iteration needs).
+/// Method names mirror the arithmetic they do; no operator traits are needed here.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct C64 {
     pub re: f64,
     pub im: f64,
 }
 
+#[allow(clippy::should_implement_trait)]
 impl C64 {
     pub fn new(re: f64, im: f64) -> Self {
         C64 { re, im }
@@ -120,9 +122,7 @@ fn hessenberg(n: usize, a: &mut [Vec<f64>]) {
                 a[m][j] = t;
             }
             for j in 1..=n {
-                let t = a[j][i];
-                a[j][i] = a[j][m];
-                a[j][m] = t;
+                a[j].swap(i, m);
             }
         }
         if x != 0.0 {
@@ -262,7 +262,7 @@ fn hqr(n: usize, a: &mut [Vec<f64>]) -> Result<Vec<C64>, RotorError> {
                         }
                     }
                     let mut k = m;
-                    while k + 1 <= nn {
+                    while k < nn {
                         if k != m {
                             p = a[k][k - 1];
                             q = a[k + 1][k - 1];
@@ -389,7 +389,7 @@ pub fn eigenvector(n: usize, a: &[f64], lam: C64) -> Result<Vec<C64>, RotorError
             C64::default(),
             |acc, z| if z.abs() > acc.abs() { z } else { acc },
         );
-        if !(big.abs() > 0.0) || !big.abs().is_finite() {
+        if big.abs().is_nan() || big.abs() <= 0.0 || !big.abs().is_finite() {
             return Err(RotorError::Singular("inverse iteration"));
         }
         for z in b.iter_mut() {

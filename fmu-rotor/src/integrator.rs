@@ -120,6 +120,9 @@ pub struct GglBdf {
 
 const NEWTON_MAX_IT: usize = 4;
 
+/// Writes the input vector u(t).
+pub type InputFn<'a> = dyn FnMut(f64, &mut [f64]) -> Result<(), RotorError> + 'a;
+
 impl GglBdf {
     /// Start at a consistent state (x0, v0) at t0; the initial derivative comes from the
     /// consistent accelerations with inputs `u0`.
@@ -288,7 +291,7 @@ impl GglBdf {
     pub fn advance_to(
         &mut self,
         t_end: f64,
-        inputs: &mut dyn FnMut(f64, &mut [f64]) -> Result<(), RotorError>,
+        inputs: &mut InputFn,
     ) -> Result<StepStats, RotorError> {
         let mut stats = StepStats::default();
         let nq = self.sys.n_coords();
@@ -331,7 +334,7 @@ impl GglBdf {
             }
             let mut jac_fresh = false;
             loop {
-                if !(h >= self.tol.h_min_s) {
+                if h.is_nan() || h < self.tol.h_min_s {
                     let e = RotorError::StepFailure {
                         t_s: self.t,
                         h_s: h,
@@ -450,7 +453,7 @@ impl GglBdf {
                     0.0
                 };
                 let p = if order2 { 3.0 } else { 2.0 };
-                if !(err <= 1.0) {
+                if err.is_nan() || err > 1.0 {
                     stats.rejected_steps += 1;
                     let fac = if err.is_finite() {
                         (0.9 * err.powf(-1.0 / p)).clamp(0.2, 0.9)

@@ -294,7 +294,7 @@ impl Rotor {
                 "advance from t0 = {t0_s} s but the rotor is at t = {t} s"
             )));
         }
-        if !(h_s > 0.0) || !h_s.is_finite() {
+        if h_s.is_nan() || h_s <= 0.0 || !h_s.is_finite() {
             return Err(RotorError::InvalidInput(format!(
                 "step size h = {h_s} s must be positive and finite"
             )));

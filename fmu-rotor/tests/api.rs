@@ -12,7 +12,8 @@ fn forces(t: f64) -> BearingForces {
 
 #[test]
 fn invalid_parameters_are_reported() {
-    let cases: Vec<(&str, Box<dyn Fn(&mut RotorParams)>)> = vec![
+    type Edit = Box<dyn Fn(&mut RotorParams)>;
+    let cases: Vec<(&str, Edit)> = vec![
         ("m", Box::new(|p| p.m_kg = -1.0)),
         ("J_t", Box::new(|p| p.j_t_kg_m2 = 0.0)),
         ("J_p", Box::new(|p| p.j_p_kg_m2 = -1e-6)),
