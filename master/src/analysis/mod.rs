@@ -1,0 +1,1 @@
+//! Run-up analysis: onset detection, spectra, classification.

@@ -1,0 +1,5 @@
+//! The `airring` co-simulation master as a library: system files, the Gauss-Seidel/Jacobi algorithms,
+//! result output, run-up analysis and plots. `main.rs` is only the command line.
+
+pub mod analysis;
+pub mod plot;
