@@ -1,1 +1,18 @@
 //! Run-up analysis: onset detection, spectra, classification.
+//!
+//! Pure functions over one run's sampled time series ([`RunSeries`]): [`classify`] finds the onset of
+//! self-excited vibration and sorts the run into the paper's bifurcation paths; [`spectrogram`] gives the
+//! waterfall data. The criteria are documented in [`onset`] and [`classify()`]'s module.
+
+pub mod classify;
+pub mod onset;
+pub mod series;
+pub mod spectrum;
+#[cfg(test)]
+pub(crate) mod synth;
+#[cfg(test)]
+mod tests;
+
+pub use classify::{classify, Classification, RunClass, WhirlSample};
+pub use series::{Bearing, RunSeries};
+pub use spectrum::{spectrogram, Spectrogram};

@@ -1,0 +1,405 @@
+//! Classification of a run-up into the paper's bifurcation paths (Sections 1 and 3).
+//!
+//! Decision, in this order (the thresholds are the named constants below):
+//! 1. **Stable**: no onset (see [`super::onset`]) up to the end of the run.
+//! 2. **UnstableLowSpeed**: onset below [`LOW_SPEED_FRACTION`] of the run's top speed: the bearings never
+//!    stabilise the rotor (what plain rigid air bearings do, paper Section 1).
+//! 3. After the onset, whirl windows of [`WHIRL_WINDOW_S`] every [`WHIRL_HOP_S`] give, per bearing, the whirl
+//!    amplitude (RMS of the detrended relative motion) and the dominant whirl frequency (signed, forward > 0).
+//!    * *large*: the largest whirl amplitude exceeds [`LARGE_WHIRL_AMP_REL`] * C, or the post-onset
+//!      eccentricity exceeds [`LARGE_EPS`].
+//!    * *speed-proportional frequency*: the whirl frequency's speed elasticity d ln f / d ln Omega (robust
+//!      Theil-Sen slope over the whirl windows of each bearing, the larger of the two) is at least
+//!      [`PROPORTIONAL_ELASTICITY`].
+//!    * *two frequencies*: in at least [`TWO_FREQ_MIN_FRACTION`] of the windows where both bearings whirl,
+//!      their dominant frequencies differ by more than [`FREQ_SPLIT_REL`] (and one frequency bin).
+//! 4. **Path2b**: large and speed-proportional (paper 3.3: eccentricities rise to critical levels, whirl
+//!    frequencies rise almost linearly with speed).
+//! 5. **Path1**: large, or two frequencies (paper 3.1: very large amplitudes; turbine- and compressor-side
+//!    whirls with their own frequencies until a synchronisation jump; little change with speed afterwards).
+//! 6. **Path2a**: otherwise: a whirl of moderate amplitude with one common frequency (paper 3.2).
+
+use serde::{Deserialize, Serialize};
+
+use super::onset::{self, OscTrack};
+use super::series::{Bearing, RunSeries};
+use super::spectrum::dominant_whirl_hz;
+
+/// An onset below 10% of the top speed (200 Hz of 2000 Hz) is "at very low speed": it lies at or below the
+/// rigid-body modes (125-181 Hz, paper 2.3), far below the paper's earliest Section 3 onset (767 Hz, 38%).
+pub const LOW_SPEED_FRACTION: f64 = 0.10;
+/// Whirl-frequency window: 40 ms gives 25 Hz bins (refined by zero padding and peak interpolation to a few
+/// Hz), enough to separate two whirl lines 5% apart at the 350-900 Hz of the paper's whirls.
+pub const WHIRL_WINDOW_S: f64 = 0.04;
+/// Step between whirl windows (also the time resolution of the reported whirl frequencies).
+pub const WHIRL_HOP_S: f64 = 0.02;
+/// Lowest whirl frequency searched; below it is what the detrending leaves of the quasi-static drift.
+pub const WHIRL_F_MIN_HZ: f64 = 20.0;
+/// A bearing takes part in frequency comparisons only with a whirl amplitude of at least 4% of C (twice the
+/// onset threshold): a weaker line's peak frequency is not trustworthy.
+pub const WHIRL_ACTIVE_REL: f64 = 0.04;
+/// "Very large" whirl (path 1): an orbit radius over half the minimum clearance. With the static
+/// eccentricity of a loaded journal added, such an orbit reaches eps ~ 1, i.e. the trailing edges of the
+/// lobes; a "rather low" path-2a whirl stays well inside.
+pub const LARGE_WHIRL_AMP_REL: f64 = 0.5;
+/// "Critical" eccentricity after onset (paths 1 and 2b): eps = 1 is the minimum clearance, where the gap at a
+/// lobe's trailing edge closes (eps may exceed 1 elsewhere, MODEL.md 5, but only by entering a lobe's wedge).
+pub const LARGE_EPS: f64 = 1.0;
+/// d ln f / d ln Omega: 1 for a whirl at a fixed fraction of the speed (path 2b), ~0 for a whirl locked to a
+/// rotor/ring mode (path 1 after onset: "little influence" of speed). 0.6 splits the two.
+pub const PROPORTIONAL_ELASTICITY: f64 = 0.6;
+/// Two whirl frequencies are distinct when they differ by more than 5% (the paper's path-2b frequencies are
+/// "almost equal" before they lock; path 1's turbine and compressor lines are clearly apart).
+pub const FREQ_SPLIT_REL: f64 = 0.05;
+/// Share of the jointly whirling windows with distinct frequencies that makes a path-1 two-frequency regime
+/// (the paper's path 1 has it for 750 of 1850 ms after onset, ~40%).
+pub const TWO_FREQ_MIN_FRACTION: f64 = 0.2;
+/// Start-up (journal resting on the ring, lift-off) is left out of the reported maximum eccentricities:
+/// samples below this fraction of the top speed do not count, unless the run is unstable from low speed.
+pub const STARTUP_SPEED_FRACTION: f64 = 0.10;
+
+/// The outcome of a run-up.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RunClass {
+    Stable,
+    Path1,
+    Path2a,
+    Path2b,
+    UnstableLowSpeed,
+}
+
+impl RunClass {
+    /// The name used in `summary.json`.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            RunClass::Stable => "stable",
+            RunClass::Path1 => "path1",
+            RunClass::Path2a => "path2a",
+            RunClass::Path2b => "path2b",
+            RunClass::UnstableLowSpeed => "unstable_low_speed",
+        }
+    }
+}
+
+/// Whirl amplitude and dominant frequency per bearing in one whirl window (from the onset on).
+/// Frequencies are signed (forward whirl > 0) and mean something only where the amplitude is above
+/// [`WHIRL_ACTIVE_REL`] * C.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct WhirlSample {
+    pub t_s: f64,
+    pub speed_hz: f64,
+    pub f_c_hz: f64,
+    pub f_t_hz: f64,
+    pub amp_c_m: f64,
+    pub amp_t_m: f64,
+}
+
+/// Result of [`classify`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Classification {
+    pub class: RunClass,
+    pub onset_time_s: Option<f64>,
+    pub onset_speed_hz: Option<f64>,
+    /// "C" or "T": the bearing whose oscillation crossed the threshold first.
+    pub first_bearing: Option<String>,
+    /// Maximum eccentricity ratios |dr| / C above [`STARTUP_SPEED_FRACTION`] of top speed.
+    pub max_eps_c: f64,
+    pub max_eps_t: f64,
+    pub whirl: Vec<WhirlSample>,
+    /// Why: the measured features against the thresholds, human-readable.
+    pub criteria: String,
+}
+
+/// Classify one run-up (see the module documentation for the criteria).
+pub fn classify(series: &RunSeries) -> Classification {
+    series.check();
+    let c = series.clearance_m;
+    let spin = series.spin_angle_rad();
+    let thr = onset::ONSET_AMP_REL * c;
+    let tracks: Vec<OscTrack> = Bearing::BOTH
+        .iter()
+        .map(|b| onset::oscillation_track(series, *b, &spin, onset::AMP_WINDOW_S, onset::AMP_HOP_S))
+        .collect();
+    let onsets: Vec<Option<f64>> = tracks
+        .iter()
+        .map(|tr| onset::sustained_onset(tr, thr, onset::MIN_PERSIST_S, onset::GAP_BRIDGE_S))
+        .collect();
+    let eps = [series.eps(Bearing::C), series.eps(Bearing::T)];
+    let top_hz = series.max_speed_hz();
+    let speed = series.speed_hz();
+
+    let first = match (onsets[0], onsets[1]) {
+        (None, None) => None,
+        (Some(tc), None) => Some((tc, Bearing::C)),
+        (None, Some(tt)) => Some((tt, Bearing::T)),
+        (Some(tc), Some(tt)) => {
+            if (tc - tt).abs() < onset::AMP_HOP_S {
+                // A tie within the time resolution: the bearing with the larger oscillation just after it.
+                let after =
+                    |tr: &OscTrack| mean_over(tr, tc.min(tt), tc.min(tt) + onset::MIN_PERSIST_S);
+                let b = if after(&tracks[1]) > after(&tracks[0]) {
+                    Bearing::T
+                } else {
+                    Bearing::C
+                };
+                Some((tc.min(tt), b))
+            } else if tt < tc {
+                Some((tt, Bearing::T))
+            } else {
+                Some((tc, Bearing::C))
+            }
+        }
+    };
+
+    let max_eps_from = |t_from: f64, low_speed_ok: bool| -> [f64; 2] {
+        let mut m = [0.0_f64; 2];
+        for i in 0..series.len() {
+            if series.t_s[i] < t_from
+                || (!low_speed_ok && speed[i] < STARTUP_SPEED_FRACTION * top_hz)
+            {
+                continue;
+            }
+            m[0] = m[0].max(eps[0][i]);
+            m[1] = m[1].max(eps[1][i]);
+        }
+        m
+    };
+
+    let Some((t_on, first_b)) = first else {
+        let m = max_eps_from(f64::NEG_INFINITY, false);
+        return Classification {
+            class: RunClass::Stable,
+            onset_time_s: None,
+            onset_speed_hz: None,
+            first_bearing: None,
+            max_eps_c: m[0],
+            max_eps_t: m[1],
+            whirl: Vec::new(),
+            criteria: format!(
+                "stable: no oscillation about the quasi-static equilibrium above {} C ({:.3} um) lasting {} s at \
+                 either bearing up to {:.0} Hz (largest after start-up: C {:.4} C, T {:.4} C)",
+                onset::ONSET_AMP_REL,
+                thr * 1e6,
+                onset::MIN_PERSIST_S,
+                top_hz,
+                max_after_startup(&tracks[0], series) / c,
+                max_after_startup(&tracks[1], series) / c,
+            ),
+        };
+    };
+    let onset_speed = series.speed_hz_at(t_on);
+    let low_speed = onset_speed < LOW_SPEED_FRACTION * top_hz;
+    let m = max_eps_from(f64::NEG_INFINITY, low_speed);
+    let onset_text = format!(
+        "onset at {:.4} s ({:.0} Hz, {:.0}% of top speed), bearing {} first (oscillation > {} C sustained >= {} s; \
+         onsets C {}, T {})",
+        t_on,
+        onset_speed,
+        100.0 * onset_speed / top_hz.max(1e-300),
+        first_b.label(),
+        onset::ONSET_AMP_REL,
+        onset::MIN_PERSIST_S,
+        fmt_opt(onsets[0]),
+        fmt_opt(onsets[1]),
+    );
+
+    let whirl = whirl_samples(series, &spin, t_on);
+    let feat = features(&whirl, series, &eps, t_on);
+    let (class, why) = if low_speed {
+        (
+            RunClass::UnstableLowSpeed,
+            format!("onset below {} of top speed", LOW_SPEED_FRACTION),
+        )
+    } else {
+        let large = feat.max_amp_rel > LARGE_WHIRL_AMP_REL || feat.max_eps_after > LARGE_EPS;
+        let proportional = feat
+            .elasticity
+            .is_some_and(|e| e >= PROPORTIONAL_ELASTICITY);
+        let two_freq = feat
+            .two_freq_fraction
+            .is_some_and(|f| f >= TWO_FREQ_MIN_FRACTION);
+        let class = if large && proportional {
+            RunClass::Path2b
+        } else if large || two_freq {
+            RunClass::Path1
+        } else {
+            RunClass::Path2a
+        };
+        let why = format!(
+            "large={large} (max whirl amplitude {:.3} C vs {}, max eps after onset {:.3} vs {}); \
+             speed-proportional={proportional} (whirl-frequency elasticity {} vs {}); \
+             two-frequencies={two_freq} (share of joint whirl windows with frequencies > {}% apart {} vs {})",
+            feat.max_amp_rel,
+            LARGE_WHIRL_AMP_REL,
+            feat.max_eps_after,
+            LARGE_EPS,
+            fmt_opt(feat.elasticity),
+            PROPORTIONAL_ELASTICITY,
+            100.0 * FREQ_SPLIT_REL,
+            fmt_opt(feat.two_freq_fraction),
+            TWO_FREQ_MIN_FRACTION,
+        );
+        (class, why)
+    };
+    Classification {
+        class,
+        onset_time_s: Some(t_on),
+        onset_speed_hz: Some(onset_speed),
+        first_bearing: Some(first_b.label().to_string()),
+        max_eps_c: m[0],
+        max_eps_t: m[1],
+        whirl,
+        criteria: format!("{}: {onset_text}; {why}", class.as_str()),
+    }
+}
+
+fn fmt_opt(v: Option<f64>) -> String {
+    v.map_or_else(|| "n/a".to_string(), |v| format!("{v:.3}"))
+}
+
+fn mean_over(tr: &OscTrack, t0: f64, t1: f64) -> f64 {
+    let v: Vec<f64> = tr
+        .t_s
+        .iter()
+        .zip(&tr.amp_m)
+        .filter(|(t, _)| **t >= t0 && **t <= t1)
+        .map(|(_, a)| *a)
+        .collect();
+    if v.is_empty() {
+        0.0
+    } else {
+        v.iter().sum::<f64>() / v.len() as f64
+    }
+}
+
+/// Largest windowed oscillation amplitude once the rotor is past start-up speed (for the "stable" reason).
+fn max_after_startup(tr: &OscTrack, series: &RunSeries) -> f64 {
+    let top = series.max_speed_hz();
+    tr.t_s
+        .iter()
+        .zip(&tr.amp_m)
+        .filter(|(t, _)| series.speed_hz_at(**t) >= STARTUP_SPEED_FRACTION * top)
+        .fold(0.0, |m, (_, a)| m.max(*a))
+}
+
+/// Whirl windows from the onset to the end of the run.
+fn whirl_samples(series: &RunSeries, spin: &[f64], t_on: f64) -> Vec<WhirlSample> {
+    let (n_win, hop) = onset::window_samples(series, WHIRL_WINDOW_S, WHIRL_HOP_S);
+    let dt = series.dt_s();
+    let mut out = Vec::new();
+    let mut start = series.t_s.partition_point(|t| *t < t_on);
+    // Zero padding to 8x the window for a peak interpolation accurate to a fraction of a bin.
+    let min_fft = 8 * n_win;
+    while start + n_win <= series.len() {
+        let mut amp = [0.0; 2];
+        let mut f = [0.0; 2];
+        for (k, b) in Bearing::BOTH.iter().enumerate() {
+            let (x, y) = series.rel(*b);
+            let (rx, ry) = onset::detrend_window(&series.t_s, x, y, spin, start..start + n_win);
+            amp[k] =
+                (rx.iter().zip(&ry).map(|(a, b)| a * a + b * b).sum::<f64>() / n_win as f64).sqrt();
+            f[k] = dominant_whirl_hz(&rx, &ry, dt, WHIRL_F_MIN_HZ, min_fft);
+        }
+        let t = 0.5 * (series.t_s[start] + series.t_s[start + n_win - 1]);
+        out.push(WhirlSample {
+            t_s: t,
+            speed_hz: series.speed_hz_at(t),
+            f_c_hz: f[0],
+            f_t_hz: f[1],
+            amp_c_m: amp[0],
+            amp_t_m: amp[1],
+        });
+        start += hop;
+    }
+    out
+}
+
+/// The measured features of step 3 of the module documentation.
+#[derive(Debug, Clone, Default)]
+struct Features {
+    max_amp_rel: f64,
+    max_eps_after: f64,
+    elasticity: Option<f64>,
+    two_freq_fraction: Option<f64>,
+}
+
+fn features(whirl: &[WhirlSample], series: &RunSeries, eps: &[Vec<f64>; 2], t_on: f64) -> Features {
+    let c = series.clearance_m;
+    let active = WHIRL_ACTIVE_REL * c;
+    let mut feat = Features::default();
+    for w in whirl {
+        feat.max_amp_rel = feat.max_amp_rel.max(w.amp_c_m.max(w.amp_t_m) / c);
+    }
+    for i in series.t_s.partition_point(|t| *t < t_on)..series.len() {
+        feat.max_eps_after = feat.max_eps_after.max(eps[0][i]).max(eps[1][i]);
+    }
+    // Speed elasticity per bearing over its active windows.
+    let mut best: Option<f64> = None;
+    for k in 0..2 {
+        let pts: Vec<(f64, f64)> = whirl
+            .iter()
+            .filter_map(|w| {
+                let (f, a) = if k == 0 {
+                    (w.f_c_hz, w.amp_c_m)
+                } else {
+                    (w.f_t_hz, w.amp_t_m)
+                };
+                (a > active && f.abs() > 0.0 && w.speed_hz > 0.0)
+                    .then(|| (w.speed_hz.ln(), f.abs().ln()))
+            })
+            .collect();
+        if pts.len() < 5 {
+            continue;
+        }
+        let (lo, hi) = pts
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), p| {
+                (l.min(p.0), h.max(p.0))
+            });
+        // Needs a speed span of 10% to say anything about a slope.
+        if hi - lo < 1.1_f64.ln() {
+            continue;
+        }
+        if let Some(e) = theil_sen(&pts) {
+            best = Some(best.map_or(e, |b: f64| b.max(e)));
+        }
+    }
+    feat.elasticity = best;
+    // Two distinct frequencies where both bearings whirl.
+    let bin_hz = 1.0 / WHIRL_WINDOW_S;
+    let joint: Vec<&WhirlSample> = whirl
+        .iter()
+        .filter(|w| w.amp_c_m > active && w.amp_t_m > active)
+        .collect();
+    if !joint.is_empty() {
+        let split = joint
+            .iter()
+            .filter(|w| {
+                let df = (w.f_c_hz - w.f_t_hz).abs();
+                df > (FREQ_SPLIT_REL * w.f_c_hz.abs().max(w.f_t_hz.abs())).max(bin_hz)
+            })
+            .count();
+        feat.two_freq_fraction = Some(split as f64 / joint.len() as f64);
+    }
+    feat
+}
+
+/// Theil-Sen slope: the median of all pairwise slopes (robust against the frequency jumps of a
+/// synchronisation and against the growth phase right after onset).
+fn theil_sen(pts: &[(f64, f64)]) -> Option<f64> {
+    let mut slopes = Vec::new();
+    for i in 0..pts.len() {
+        for j in i + 1..pts.len() {
+            let dx = pts[j].0 - pts[i].0;
+            if dx.abs() > 1e-12 {
+                slopes.push((pts[j].1 - pts[i].1) / dx);
+            }
+        }
+    }
+    if slopes.is_empty() {
+        return None;
+    }
+    slopes.sort_by(f64::total_cmp);
+    Some(slopes[slopes.len() / 2])
+}
