@@ -1,0 +1,297 @@
+//! The six run-up figures.
+
+use super::axes::{decimate_minmax, Axes};
+use super::canvas::{Anchor, Canvas, Item, Rgb, Role};
+use super::LobeGeometry;
+use crate::analysis::{spectrogram, Bearing, Classification, RunSeries};
+
+const W: u32 = 900;
+const H: u32 = 500;
+/// Longest polyline drawn for an orbit: beyond this the orbit is thinned by a stride (it fills the same area).
+const MAX_ORBIT_POINTS: usize = 20_000;
+/// Waterfall: 40 ms Hann window (25 Hz bins, the paper's spectra resolve the whirl lines at this scale).
+const WATERFALL_WINDOW_S: f64 = 0.04;
+/// Waterfall colour scale: dB below the largest magnitude shown.
+const WATERFALL_DB_RANGE: f64 = 60.0;
+
+fn t_ms(series: &RunSeries) -> Vec<f64> {
+    series.t_s.iter().map(|t| t * 1e3).collect()
+}
+
+fn range(vs: &[&[f64]]) -> (f64, f64) {
+    vs.iter()
+        .flat_map(|v| v.iter())
+        .filter(|v| v.is_finite())
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(l, h), v| {
+            (l.min(*v), h.max(*v))
+        })
+}
+
+/// Two time series in one frame with the onset marked (if any).
+fn two_series(
+    series: &RunSeries,
+    class: &Classification,
+    a: (&[f64], &str),
+    b: (&[f64], &str),
+    title: &str,
+    ylabel: &str,
+) -> Canvas {
+    let t = t_ms(series);
+    let mut c = Canvas::new(W, H);
+    let ax = Axes::standard(W, H, range(&[&t]), range(&[a.0, b.0]));
+    ax.draw(&mut c, title, "t [ms]", ylabel);
+    let buckets = ax.width as usize;
+    for ((ys, name), color) in [(a, Rgb::BLUE), (b, Rgb::RED)] {
+        c.polyline(
+            ax.map_all(decimate_minmax(&t, ys, buckets)),
+            color,
+            1.2,
+            false,
+            Role::Series,
+            name,
+        );
+    }
+    if let (Some(t_on), Some(f_on)) = (class.onset_time_s, class.onset_speed_hz) {
+        let (px, _) = ax.map(t_on * 1e3, ax.y.0);
+        c.polyline(
+            vec![(px, ax.top), (px, ax.top + ax.height)],
+            Rgb::BLACK,
+            1.0,
+            true,
+            Role::Marker,
+            "onset",
+        );
+        let label = format!(
+            "onset {:.0} ms ({:.0} Hz), {}",
+            t_on * 1e3,
+            f_on,
+            class.class.as_str()
+        );
+        c.text(px + 4.0, ax.top + 14.0, &label, 12.0, Anchor::Start);
+    }
+    ax.legend(&mut c, &[(a.1, Rgb::BLUE), (b.1, Rgb::RED)]);
+    c
+}
+
+pub fn eps(series: &RunSeries, class: &Classification) -> Canvas {
+    let ec = series.eps(Bearing::C);
+    let et = series.eps(Bearing::T);
+    two_series(
+        series,
+        class,
+        (&ec, "eps_C"),
+        (&et, "eps_T"),
+        "Bearing eccentricities",
+        "eps = |dr| / C [-]",
+    )
+}
+
+pub fn y_journal(series: &RunSeries, class: &Classification) -> Canvas {
+    let yc: Vec<f64> = series.y_jc_m.iter().map(|v| v * 1e6).collect();
+    let yt: Vec<f64> = series.y_jt_m.iter().map(|v| v * 1e6).collect();
+    two_series(
+        series,
+        class,
+        (&yc, "y_JC"),
+        (&yt, "y_JT"),
+        "Vertical journal positions",
+        "y [um]",
+    )
+}
+
+/// Perceptually ordered dark-blue to yellow map (a 5-stop approximation of viridis).
+fn colormap(v: f64) -> Rgb {
+    const STOPS: [(u8, u8, u8); 5] = [
+        (68, 1, 84),
+        (59, 82, 139),
+        (33, 145, 140),
+        (94, 201, 98),
+        (253, 231, 37),
+    ];
+    let v = v.clamp(0.0, 1.0) * 4.0;
+    let i = (v.floor() as usize).min(3);
+    let f = v - i as f64;
+    let lerp = |a: u8, b: u8| (a as f64 + f * (b as f64 - a as f64)).round() as u8;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    Rgb(lerp(a.0, b.0), lerp(a.1, b.1), lerp(a.2, b.2))
+}
+
+/// Spectrogram of y_J of one bearing vs time as a colour map (dB), with the 1x line.
+pub fn waterfall(series: &RunSeries, b: Bearing) -> Canvas {
+    let y = match b {
+        Bearing::C => &series.y_jc_m,
+        Bearing::T => &series.y_jt_m,
+    };
+    let dt = series.dt_s();
+    let duration =
+        series.t_s.last().copied().unwrap_or(0.0) - series.t_s.first().copied().unwrap_or(0.0);
+    let mut c = Canvas::new(W, H);
+    let top_hz = series.max_speed_hz();
+    let title = format!(
+        "Spectrum of y_J{} (Hann {:.0} ms, dB re max)",
+        b.label(),
+        WATERFALL_WINDOW_S * 1e3
+    );
+    if dt <= 0.0 || duration < WATERFALL_WINDOW_S {
+        let ax = Axes::standard(W, H, (0.0, 1.0), (0.0, 1.0));
+        ax.draw(&mut c, &title, "t [ms]", "f [Hz]");
+        c.text(
+            W as f64 / 2.0,
+            H as f64 / 2.0,
+            "run shorter than one window",
+            14.0,
+            Anchor::Middle,
+        );
+        return c;
+    }
+    // About 300 columns over the run, but no finer than a quarter window.
+    let hop = (duration / 300.0).max(WATERFALL_WINDOW_S / 4.0).max(dt);
+    let sg = spectrogram(y, dt, WATERFALL_WINDOW_S, hop);
+    let nyq = 0.5 / dt;
+    let f_hi = if top_hz > 0.0 {
+        (1.1 * top_hz).min(nyq)
+    } else {
+        nyq
+    };
+    let rows = sg
+        .freqs_hz
+        .iter()
+        .take_while(|f| **f <= f_hi)
+        .count()
+        .max(1);
+    let cols = sg.times_s.len().max(1);
+    let t0 = series.t_s[0];
+    let x_lo = (sg.times_s.first().copied().unwrap_or(t0) - 0.5 * hop) * 1e3;
+    let x_hi = (sg.times_s.last().copied().unwrap_or(t0) + 0.5 * hop) * 1e3;
+    let df = sg.freqs_hz.get(1).copied().unwrap_or(1.0);
+    let mut ax = Axes::standard(W, H, (0.0, 1.0), (0.0, 1.0));
+    ax.x = (x_lo, x_hi);
+    ax.y = (-0.5 * df, (rows as f64 - 0.5) * df);
+    let peak = sg
+        .magnitude
+        .iter()
+        .flat_map(|r| r[..rows].iter())
+        .fold(0.0_f64, |m, v| m.max(*v))
+        .max(1e-300);
+    let mut rgba = Vec::with_capacity(cols * rows * 4);
+    for row in (0..rows).rev() {
+        for col in 0..cols {
+            let m = sg.magnitude.get(col).map_or(0.0, |r| r[row]);
+            let db = 20.0 * (m.max(1e-300) / peak).log10();
+            let Rgb(r, g, bl) = colormap(1.0 + db / WATERFALL_DB_RANGE);
+            rgba.extend_from_slice(&[r, g, bl, 255]);
+        }
+    }
+    if !sg.times_s.is_empty() {
+        c.items.push(Item::Image {
+            x: ax.left,
+            y: ax.top,
+            w: ax.width,
+            h: ax.height,
+            cols: cols as u32,
+            rows: rows as u32,
+            rgba,
+        });
+    }
+    ax.draw(&mut c, &title, "t [ms]", "f [Hz]");
+    // The 1x line (speed in Hz vs time) where it lies in the frame.
+    let t = t_ms(series);
+    let speed = series.speed_hz();
+    let line: Vec<(f64, f64)> = decimate_minmax(&t, &speed, ax.width as usize)
+        .into_iter()
+        .filter(|(x, f)| *x >= x_lo && *x <= x_hi && *f <= ax.y.1)
+        .collect();
+    c.polyline(ax.map_all(line), Rgb::WHITE, 1.5, true, Role::Series, "1x");
+    if let Some(&(x, f)) = sg
+        .times_s
+        .last()
+        .map(|t| (t * 1e3, series.speed_hz_at(*t)))
+        .as_ref()
+    {
+        if f <= ax.y.1 && f > ax.y.0 {
+            let (px, py) = ax.map(x, f);
+            c.items.push(Item::Text {
+                x: px - 6.0,
+                y: py + 16.0,
+                text: "1x".into(),
+                size: 13.0,
+                anchor: Anchor::End,
+                vertical: false,
+                color: Rgb::WHITE,
+            });
+        }
+    }
+    c
+}
+
+/// Relative journal orbit dx, dy in um with the lobe contours and the clearance circle.
+pub fn orbit(series: &RunSeries, b: Bearing, lobes: &LobeGeometry) -> Canvas {
+    let (dx, dy) = series.rel(b);
+    let stride = dx.len().div_ceil(MAX_ORBIT_POINTS).max(1);
+    let pts: Vec<(f64, f64)> = dx
+        .iter()
+        .zip(dy)
+        .step_by(stride)
+        .map(|(x, y)| (x * 1e6, y * 1e6))
+        .collect();
+    let contours: Vec<Vec<(f64, f64)>> = lobes
+        .contours_m(60)
+        .into_iter()
+        .map(|l| l.into_iter().map(|(x, y)| (x * 1e6, y * 1e6)).collect())
+        .collect();
+    // Square frame: equal scales, the contours (radius up to C + dH) and the orbit inside.
+    let r = pts
+        .iter()
+        .chain(contours.iter().flatten())
+        .fold(0.0_f64, |m, (x, y)| m.max(x.abs()).max(y.abs()))
+        * 1.05;
+    let size = 560u32;
+    let mut c = Canvas::new(size, size + 20);
+    let ax = Axes {
+        left: 75.0,
+        top: 35.0,
+        width: size as f64 - 100.0,
+        height: size as f64 - 100.0,
+        x: (-r, r),
+        y: (-r, r),
+    };
+    ax.draw(
+        &mut c,
+        &format!("Orbit, bearing {} (journal relative to ring)", b.label()),
+        "dx [um]",
+        "dy [um]",
+    );
+    let circle: Vec<(f64, f64)> = (0..=120)
+        .map(|i| {
+            let a = std::f64::consts::TAU * i as f64 / 120.0;
+            (lobes.c_m * 1e6 * a.cos(), lobes.c_m * 1e6 * a.sin())
+        })
+        .collect();
+    c.polyline(
+        ax.map_all(circle),
+        Rgb::GREY,
+        1.0,
+        true,
+        Role::Reference,
+        "C",
+    );
+    for (k, l) in contours.into_iter().enumerate() {
+        c.polyline(
+            ax.map_all(l),
+            Rgb::GREEN,
+            2.0,
+            false,
+            Role::Lobe,
+            &format!("lobe {}", k + 1),
+        );
+    }
+    c.polyline(
+        ax.map_all(pts),
+        Rgb::BLUE,
+        0.8,
+        false,
+        Role::Series,
+        &format!("dr_{}", b.label()),
+    );
+    c
+}
