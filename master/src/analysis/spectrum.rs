@@ -55,7 +55,7 @@ pub fn spectrogram(signal: &[f64], dt_s: f64, window_s: f64, hop_s: f64) -> Spec
         fft.process(&mut buf);
         let row = (0..n_bins)
             .map(|k| {
-                let edge = k == 0 || (n % 2 == 0 && k == n / 2);
+                let edge = k == 0 || (n & 1 == 0 && k == n / 2);
                 buf[k].norm() * if edge { 1.0 } else { 2.0 } / wsum
             })
             .collect();

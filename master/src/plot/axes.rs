@@ -112,6 +112,15 @@ impl Axes {
     /// Legend in the upper right corner of the plot area.
     pub fn legend(&self, c: &mut Canvas, entries: &[(&str, Rgb)]) {
         let x = self.left + self.width - 120.0;
+        // A white box so the data underneath do not hide the names.
+        c.items.push(Item::Rect {
+            x: x - 8.0,
+            y: self.top + 4.0,
+            w: 124.0,
+            h: 18.0 * entries.len() as f64 + 6.0,
+            fill: Some(Rgb::WHITE),
+            stroke: Some(Rgb::GREY),
+        });
         for (i, (name, color)) in entries.iter().enumerate() {
             let y = self.top + 18.0 + 18.0 * i as f64;
             c.polyline(

@@ -257,7 +257,7 @@ pub fn orbit(series: &RunSeries, b: Bearing, lobes: &LobeGeometry) -> Canvas {
     };
     ax.draw(
         &mut c,
-        &format!("Orbit, bearing {} (journal relative to ring)", b.label()),
+        &format!("Orbit of journal in ring, bearing {}", b.label()),
         "dx [um]",
         "dy [um]",
     );
