@@ -2,4 +2,10 @@
 //! result output, run-up analysis and plots. `main.rs` is only the command line.
 
 pub mod analysis;
+pub mod cosim;
+pub mod modal;
+pub mod output;
 pub mod plot;
+pub mod run;
+pub mod runup;
+pub mod system;

@@ -1,1 +1,306 @@
-fn main() {}
+//! `airring`: the AirRing co-simulation master (command line).
+
+use clap::{Parser, Subcommand};
+use master::run::{run, RunOptions};
+use master::runup::RunupSettings;
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+
+#[derive(Parser)]
+#[command(name = "airring", version, about = "Rotors in air ring bearings: FMI 2.0 co-simulation master")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Args, Clone)]
+struct RunupArgs {
+    /// Paper Section 3 run: path1 (c = 1000 N/mm), path2a (500 N/mm), path2b (100 N/mm, 150 g rings).
+    #[arg(long, default_value = "path1")]
+    preset: String,
+    /// Ring mount stiffness c [N/mm] (both bearings).
+    #[arg(long)]
+    c: Option<f64>,
+    /// Ring mount damping d [N s/m] (both bearings).
+    #[arg(long)]
+    d: Option<f64>,
+    /// Ring mass m_R [g] (each ring).
+    #[arg(long)]
+    m_r: Option<f64>,
+    /// Nominal clearance C [um].
+    #[arg(long)]
+    clearance: Option<f64>,
+    /// Step height dH [um].
+    #[arg(long)]
+    dh: Option<f64>,
+    /// Final speed [Hz].
+    #[arg(long)]
+    f_max: Option<f64>,
+    /// Run-up duration to f_max [s].
+    #[arg(long)]
+    t_ramp: Option<f64>,
+    /// Simulated time [s] (default: t_ramp).
+    #[arg(long)]
+    stop: Option<f64>,
+    /// Macro (communication) step [us].
+    #[arg(long)]
+    macro_step: Option<f64>,
+    /// Extrapolation order of the rotor's inputs (0, 1, 2).
+    #[arg(long)]
+    extrapolation_order: Option<u8>,
+    /// Interpolation order of the air films' inputs (0, 1, 2).
+    #[arg(long)]
+    interpolation_order: Option<u8>,
+    /// Air-film mesh per lobe, e.g. 20x6 (elements along the lobe x across the half width).
+    #[arg(long)]
+    mesh: Option<String>,
+    /// Compressor-wheel imbalance "mass_g,radius_mm,phase_deg".
+    #[arg(long)]
+    imbalance_c: Option<String>,
+    /// Turbine-wheel imbalance "mass_g,radius_mm,phase_deg".
+    #[arg(long)]
+    imbalance_t: Option<String>,
+    /// Output interval [us].
+    #[arg(long)]
+    output_interval: Option<f64>,
+    /// Jacobi instead of Gauss-Seidel.
+    #[arg(long)]
+    jacobi: bool,
+    /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
+    #[arg(long)]
+    fmu_dir: Option<PathBuf>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// A run-up of the paper's rotor in two air ring bearings.
+    Runup {
+        #[command(flatten)]
+        args: Box<RunupArgs>,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Any system described by a TOML system file.
+    Run {
+        system: PathBuf,
+        #[command(flatten)]
+        common: Common,
+        /// Clearance C [um] for the run-up analysis (eccentricities, plots), if the system is a run-up.
+        #[arg(long)]
+        clearance: Option<f64>,
+        /// Step height dH [um] for the orbit plots (default 40).
+        #[arg(long)]
+        dh: Option<f64>,
+    },
+    /// Continue an interrupted run from its last checkpoint.
+    Resume {
+        dir: PathBuf,
+        #[arg(long)]
+        checkpoint_every: Option<f64>,
+    },
+    /// Modal analysis of the rotor with linear film springs (paper Section 2.3).
+    Modal {
+        /// Rotor speed [Hz] (several: Campbell data).
+        #[arg(long, num_args = 1.., default_values_t = vec![1000.0])]
+        speed: Vec<f64>,
+        /// Ring mount stiffness [N/mm].
+        #[arg(long, default_value_t = 500.0)]
+        c: f64,
+        /// Ring mount damping [N s/m].
+        #[arg(long, default_value_t = 0.0)]
+        d: f64,
+        /// Isotropic air-film stiffness [N/mm].
+        #[arg(long, default_value_t = 2000.0)]
+        film_stiffness: f64,
+        /// Ring mass [g].
+        #[arg(long, default_value_t = 50.0)]
+        m_r: f64,
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+}
+
+#[derive(clap::Args, Clone)]
+struct Common {
+    /// Output folder (default: runs/<name>-<timestamp>).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Save a checkpoint every this many simulated seconds.
+    #[arg(long)]
+    checkpoint_every: Option<f64>,
+    /// No progress display.
+    #[arg(long)]
+    quiet: bool,
+}
+
+fn default_out(name: &str) -> PathBuf {
+    let secs = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
+    PathBuf::from("runs").join(format!("{name}-{secs}"))
+}
+
+fn fmu_dir(given: Option<PathBuf>) -> Result<PathBuf, String> {
+    let candidates: Vec<PathBuf> = match given {
+        Some(d) => vec![d],
+        None => {
+            let mut c = vec![PathBuf::from("target/fmu")];
+            if let Ok(exe) = std::env::current_exe() {
+                if let Some(p) = exe.parent().and_then(Path::parent) {
+                    c.push(p.join("fmu"));
+                }
+            }
+            c
+        }
+    };
+    for d in &candidates {
+        if d.join("rotor.fmu").exists() && d.join("airfilm.fmu").exists() {
+            return d.canonicalize().map_err(|e| e.to_string());
+        }
+    }
+    Err(format!("rotor.fmu and airfilm.fmu not found in {candidates:?}: build them with `cargo xtask fmus` or pass --fmu-dir"))
+}
+
+fn triple(s: &str, flag: &str) -> Result<(f64, f64, f64), String> {
+    let v: Vec<f64> = s.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| format!("--{flag} expects mass_g,radius_mm,phase_deg"))?;
+    match v[..] {
+        [m, r, p] if m >= 0.0 && r >= 0.0 => Ok((m, r, p)),
+        _ => Err(format!("--{flag} expects three numbers mass_g >= 0, radius_mm >= 0, phase_deg")),
+    }
+}
+
+fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
+    let mut s = RunupSettings::preset(&a.preset)?;
+    s.c_n_per_mm = a.c.unwrap_or(s.c_n_per_mm);
+    s.d_n_s_per_m = a.d.unwrap_or(s.d_n_s_per_m);
+    s.m_r_g = a.m_r.unwrap_or(s.m_r_g);
+    s.clearance_um = a.clearance.unwrap_or(s.clearance_um);
+    s.dh_um = a.dh.unwrap_or(s.dh_um);
+    s.f_max_hz = a.f_max.unwrap_or(s.f_max_hz);
+    s.t_ramp_s = a.t_ramp.unwrap_or(s.t_ramp_s);
+    s.stop_time_s = a.stop.unwrap_or(s.t_ramp_s);
+    s.macro_step_us = a.macro_step.unwrap_or(s.macro_step_us);
+    s.extrapolation_order = a.extrapolation_order.unwrap_or(s.extrapolation_order);
+    s.interpolation_order = a.interpolation_order.unwrap_or(s.interpolation_order);
+    s.output_interval_us = a.output_interval.unwrap_or(s.output_interval_us);
+    s.jacobi = a.jacobi;
+    if let Some(m) = &a.mesh {
+        let (p, z) = m.split_once('x').ok_or("--mesh expects NxM, e.g. 20x6")?;
+        s.n_elem_phi = p.trim().parse().map_err(|_| "--mesh expects NxM, e.g. 20x6")?;
+        s.n_elem_z = z.trim().parse().map_err(|_| "--mesh expects NxM, e.g. 20x6")?;
+    }
+    if let Some(i) = &a.imbalance_c {
+        s.imbalance_c = triple(i, "imbalance-c")?;
+    }
+    if let Some(i) = &a.imbalance_t {
+        s.imbalance_t = triple(i, "imbalance-t")?;
+    }
+    s.validate()?;
+    Ok(s)
+}
+
+/// The paper's three-lobe geometry with the given clearance and step height [um].
+fn lobes(clearance_um: f64, dh_um: f64) -> master::plot::LobeGeometry {
+    master::plot::LobeGeometry { c_m: clearance_um * 1e-6, dh_m: dh_um * 1e-6, ..master::plot::LobeGeometry::paper() }
+}
+
+fn stop_flag() -> Arc<AtomicBool> {
+    let flag = Arc::new(AtomicBool::new(false));
+    let f = flag.clone();
+    let _ = ctrlc::set_handler(move || {
+        if f.swap(true, Ordering::Relaxed) {
+            eprintln!("\nsecond Ctrl-C: exiting at once");
+            std::process::exit(130);
+        }
+        eprintln!("\nCtrl-C: stopping at the next macro step (checkpoint and summary are written)");
+    });
+    flag
+}
+
+fn finish(report: master::run::RunReport, out: &Path) -> ExitCode {
+    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap_or_default();
+    let v: serde_json::Value = serde_json::from_str(&summary).unwrap_or_default();
+    eprintln!(
+        "{}: {} macro steps to t = {:.4} s in {:.1} s wall; classification: {}, onset: {} s",
+        out.display(),
+        report.macro_steps,
+        report.t_end_s,
+        report.wall_time_s,
+        v["classification"],
+        v["onset_time_s"]
+    );
+    match report.error {
+        Some(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+        None if report.interrupted => ExitCode::from(130),
+        None => ExitCode::SUCCESS,
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result: Result<ExitCode, String> = (|| match cli.command {
+        Command::Runup { args, common } => {
+            let s = settings(&args)?;
+            let dir = fmu_dir(args.fmu_dir.clone())?;
+            let out = common.out.clone().unwrap_or_else(|| default_out(&s.preset));
+            std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+            let sys_path = out.join("system.toml");
+            std::fs::write(&sys_path, s.system_toml(&dir.to_string_lossy())).map_err(|e| e.to_string())?;
+            eprintln!(
+                "run-up '{}': c = {} N/mm, d = {} N s/m, m_R = {} g, C = {} um, dH = {} um, 0 -> {} Hz in {} s; macro step {} us -> {}",
+                s.preset, s.c_n_per_mm, s.d_n_s_per_m, s.m_r_g, s.clearance_um, s.dh_um, s.f_max_hz, s.t_ramp_s, s.macro_step_us, out.display()
+            );
+            let opts = RunOptions {
+                out_dir: out.clone(),
+                checkpoint_every_s: common.checkpoint_every,
+                stop: stop_flag(),
+                halt_at_s: None,
+                quiet: common.quiet,
+                extra: serde_json::to_value(&s).unwrap_or_default(),
+                lobes: Some(lobes(s.clearance_um, s.dh_um)),
+            };
+            let report = run(&sys_path, &opts, false)?;
+            Ok(finish(report, &out))
+        }
+        Command::Run { system, common, clearance, dh } => {
+            let out = common.out.clone().unwrap_or_else(|| default_out(system.file_stem().and_then(|s| s.to_str()).unwrap_or("run")));
+            let opts = RunOptions {
+                out_dir: out.clone(),
+                checkpoint_every_s: common.checkpoint_every,
+                stop: stop_flag(),
+                halt_at_s: None,
+                quiet: common.quiet,
+                extra: serde_json::json!({ "system": system }),
+                lobes: clearance.map(|c| lobes(c, dh.unwrap_or(40.0))),
+            };
+            let report = run(&system, &opts, false)?;
+            Ok(finish(report, &out))
+        }
+        Command::Resume { dir, checkpoint_every } => {
+            let old: serde_json::Value = std::fs::read_to_string(dir.join("summary.json")).ok().and_then(|s| serde_json::from_str(&s).ok()).unwrap_or_default();
+            let geometry = old["settings"]["clearance_um"].as_f64().map(|c| lobes(c, old["settings"]["dh_um"].as_f64().unwrap_or(40.0)));
+            let opts = RunOptions {
+                out_dir: dir.clone(),
+                checkpoint_every_s: checkpoint_every,
+                stop: stop_flag(),
+                halt_at_s: None,
+                quiet: false,
+                extra: old["settings"].clone(),
+                lobes: geometry,
+            };
+            let report = run(&dir.join("system.toml"), &opts, true)?;
+            Ok(finish(report, &dir))
+        }
+        Command::Modal { speed, c, d, film_stiffness, m_r, out } => master::modal::modal(&speed, c, d, film_stiffness, m_r, out.as_deref()).map(|_| ExitCode::SUCCESS),
+    })();
+    match result {
+        Ok(code) => code,
+        Err(e) => {
+            eprintln!("airring: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -293,6 +293,13 @@ impl Slave {
         Ok(FmuState { inner: self.inner.clone(), ptr })
     }
 
+    /// fmi2GetFMUstate into an existing state (the FMU may reuse its memory).
+    pub fn update_state(&self, state: &mut FmuState) -> Result<(), CallError> {
+        assert!(Arc::ptr_eq(&state.inner, &self.inner), "a state of another instance");
+        // SAFETY: a state of this instance, overwritten in place.
+        check("fmi2GetFMUstate", unsafe { (self.api().get_fmu_state)(self.c(), &mut state.ptr) })
+    }
+
     pub fn set_state(&self, state: &FmuState) -> Result<(), CallError> {
         // SAFETY: a state of this instance.
         check("fmi2SetFMUstate", unsafe { (self.api().set_fmu_state)(self.c(), state.ptr) })

@@ -1,0 +1,443 @@
+//! The macro step: sequential Gauss-Seidel in a given order (paper Section 2.4) or Jacobi.
+//!
+//! Gauss-Seidel: a subsystem's inputs from subsystems not yet stepped in this macro step are
+//! *extrapolated* through their last macro points (T_N, T_N-1, ...); inputs from subsystems already
+//! stepped are *interpolated* through T_N+1, T_N (and T_N-1). Jacobi extrapolates everything.
+//! The polynomial reaches an FMU as value + derivatives at T_N (fmi2SetRealInputDerivatives) when it
+//! declares canInterpolateInputs; otherwise (fallback) the input is held at the polynomial's value at
+//! the step midpoint, which keeps second-order accuracy of the coupling for smooth signals.
+//!
+//! Consecutive subsystems in the order that do not feed each other form a group and are stepped in
+//! parallel (the two air films). A discarded step rolls every FMU back to T_N (FMU states saved at
+//! each macro point) and retries the interval in two halves, down to 1/64 of the macro step.
+
+use super::polynomial::{taylor_derivatives, taylor_value};
+use fmi2::importer::{CallError, Fmu, FmuState, ModelDescription, Slave};
+use fmi2::{Causality, Status};
+use std::collections::VecDeque;
+use std::time::{Duration, Instant};
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scheme {
+    GaussSeidel,
+    Jacobi,
+}
+
+/// An input fed by another subsystem's output.
+#[derive(Clone, Debug)]
+pub struct Link {
+    pub to_vr: u32,
+    pub from: usize,
+    /// Index into the source's `coupling_vrs`.
+    pub from_slot: usize,
+}
+
+/// One FMU instance in the co-simulation.
+pub struct Subsystem {
+    pub name: String,
+    pub slave: Slave,
+    pub can_interpolate: bool,
+    pub inputs: Vec<Link>,
+    /// Outputs that other subsystems read, in slot order.
+    pub coupling_vrs: Vec<u32>,
+    /// Coupling outputs at the last macro points, oldest first (at most 3 kept).
+    pub history: VecDeque<(f64, Vec<f64>)>,
+    state: Option<FmuState>,
+    /// Wall time spent in this FMU's fmi2DoStep.
+    pub step_wall: Duration,
+    // Scratch for setting inputs without allocating each step.
+    vrs: Vec<u32>,
+    values: Vec<f64>,
+    orders: Vec<i32>,
+    der_vrs: Vec<u32>,
+    der_values: Vec<f64>,
+}
+
+impl Subsystem {
+    pub fn new(name: String, slave: Slave, md: &ModelDescription) -> Self {
+        Subsystem {
+            name,
+            slave,
+            can_interpolate: md.can_interpolate_inputs,
+            inputs: vec![],
+            coupling_vrs: vec![],
+            history: VecDeque::with_capacity(4),
+            state: None,
+            step_wall: Duration::ZERO,
+            vrs: vec![],
+            values: vec![],
+            orders: vec![],
+            der_vrs: vec![],
+            der_values: vec![],
+        }
+    }
+
+    /// Slot of an output in `coupling_vrs` (added if new).
+    pub fn coupling_slot(&mut self, vr: u32) -> usize {
+        match self.coupling_vrs.iter().position(|v| *v == vr) {
+            Some(i) => i,
+            None => {
+                self.coupling_vrs.push(vr);
+                self.coupling_vrs.len() - 1
+            }
+        }
+    }
+
+    fn read_coupling(&self) -> Result<Vec<f64>, CallError> {
+        let mut v = vec![0.0; self.coupling_vrs.len()];
+        self.slave.get_real(&self.coupling_vrs, &mut v)?;
+        Ok(v)
+    }
+
+    fn push_history(&mut self, t: f64, v: Vec<f64>) {
+        if self.history.len() == 3 {
+            self.history.pop_front();
+        }
+        self.history.push_back((t, v));
+    }
+
+    fn do_step(&mut self, t: f64, h: f64) -> Result<(), CallError> {
+        let start = Instant::now();
+        let r = self.slave.do_step(t, h);
+        self.step_wall += start.elapsed();
+        r
+    }
+}
+
+/// Why a macro step failed.
+#[derive(Debug)]
+pub struct StepError {
+    pub subsystem: String,
+    pub error: CallError,
+    pub t_s: f64,
+}
+
+impl std::fmt::Display for StepError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {} at t = {} s (see its log above)", self.subsystem, self.error, self.t_s)
+    }
+}
+
+impl std::error::Error for StepError {}
+
+pub struct CoSim {
+    pub subs: Vec<Subsystem>,
+    /// Groups of subsystem indices in stepping order; members of a group run in parallel.
+    pub groups: Vec<Vec<usize>>,
+    pub scheme: Scheme,
+    pub extrapolation_order: usize,
+    pub interpolation_order: usize,
+    pub rollback: bool,
+    pub parallel: bool,
+    pub t: f64,
+    pub macro_steps: u64,
+    pub retries: u64,
+    /// Macro steps between saved FMU states when rollback is on.
+    pub save_every: usize,
+    saved: Option<Saved>,
+    /// The loaded FMUs (their libraries must outlive the instances).
+    _fmus: Vec<Fmu>,
+}
+
+const MAX_HALVINGS: u32 = 6;
+
+/// The last saved point: time, coupling histories, and the steps taken since (for the replay).
+struct Saved {
+    t: f64,
+    history: Vec<VecDeque<(f64, Vec<f64>)>>,
+    replay: Vec<f64>,
+}
+
+impl CoSim {
+    /// Settles the inputs in initialization mode (sources in order, twice), leaves it, and records
+    /// the coupling outputs at t = 0 as the first macro point.
+    #[allow(clippy::too_many_arguments)]
+    pub fn initialize(
+        subs: Vec<Subsystem>,
+        order: Vec<usize>,
+        scheme: Scheme,
+        extrapolation_order: usize,
+        interpolation_order: usize,
+        rollback: bool,
+        parallel: bool,
+        fmus: Vec<Fmu>,
+    ) -> Result<CoSim, StepError> {
+        let groups = match scheme {
+            Scheme::Jacobi => vec![order.clone()],
+            Scheme::GaussSeidel => {
+                let mut groups: Vec<Vec<usize>> = vec![];
+                for &i in &order {
+                    let feeds_from_last = groups.last().is_some_and(|g| subs[i].inputs.iter().any(|l| g.contains(&l.from)));
+                    match groups.last_mut() {
+                        Some(g) if !feeds_from_last => g.push(i),
+                        _ => groups.push(vec![i]),
+                    }
+                }
+                groups
+            }
+        };
+        let mut c = CoSim {
+            subs,
+            groups,
+            scheme,
+            extrapolation_order,
+            interpolation_order,
+            rollback,
+            parallel,
+            t: 0.0,
+            macro_steps: 0,
+            retries: 0,
+            save_every: 50,
+            saved: None,
+            _fmus: fmus,
+        };
+        let fail = |s: &Subsystem, error| StepError { subsystem: s.name.clone(), error, t_s: 0.0 };
+        for _pass in 0..2 {
+            for &i in &order {
+                let (vrs, vals): (Vec<u32>, Vec<f64>) = c.subs[i]
+                    .inputs
+                    .iter()
+                    .map(|l| {
+                        let src = &c.subs[l.from];
+                        let mut v = [0.0];
+                        src.slave.get_real(&[src.coupling_vrs[l.from_slot]], &mut v).map(|_| (l.to_vr, v[0])).map_err(|e| fail(src, e))
+                    })
+                    .collect::<Result<Vec<_>, _>>()?
+                    .into_iter()
+                    .unzip();
+                c.subs[i].slave.set_real(&vrs, &vals).map_err(|e| fail(&c.subs[i], e))?;
+            }
+        }
+        for s in &mut c.subs {
+            s.slave.exit_initialization_mode().map_err(|e| fail(s, e))?;
+            let v = s.read_coupling().map_err(|e| fail(s, e))?;
+            s.push_history(0.0, v);
+        }
+        Ok(c)
+    }
+
+    /// Sets subsystem `i`'s inputs for the step [t, t+h] from the other subsystems' histories.
+    fn set_inputs(&mut self, i: usize, t: f64, h: f64, stepped: &[bool]) -> Result<(), CallError> {
+        let (extrap, interp) = (self.extrapolation_order, self.interpolation_order);
+        let mut scratch = std::mem::take(&mut self.subs[i].vrs);
+        let mut values = std::mem::take(&mut self.subs[i].values);
+        let mut orders = std::mem::take(&mut self.subs[i].orders);
+        let mut der_vrs = std::mem::take(&mut self.subs[i].der_vrs);
+        let mut der_values = std::mem::take(&mut self.subs[i].der_values);
+        scratch.clear();
+        values.clear();
+        orders.clear();
+        der_vrs.clear();
+        der_values.clear();
+        let can_interpolate = self.subs[i].can_interpolate;
+        for l in &self.subs[i].inputs {
+            let hist = &self.subs[l.from].history;
+            let n = hist.len();
+            // The point at T_N: the newest one, or the one before if the source already stepped.
+            let (anchor_idx, order) = if stepped[l.from] { (n - 2, interp) } else { (n - 1, extrap) };
+            let used = (order + 1).min(n);
+            let mut pts = [(0.0, 0.0); 3];
+            for (k, p) in hist.iter().skip(n - used).enumerate() {
+                pts[k] = (p.0, p.1[l.from_slot]);
+            }
+            let u0 = hist[anchor_idx].1[l.from_slot];
+            debug_assert_eq!(hist[anchor_idx].0, t);
+            let d = taylor_derivatives(&pts[..used], t);
+            scratch.push(l.to_vr);
+            if can_interpolate {
+                values.push(u0);
+                for (k, dk) in d.iter().enumerate().take(used - 1) {
+                    der_vrs.push(l.to_vr);
+                    orders.push(k as i32 + 1);
+                    der_values.push(*dk);
+                }
+            } else {
+                values.push(taylor_value(u0, d, h / 2.0));
+            }
+        }
+        let s = &mut self.subs[i];
+        let r = s.slave.set_real(&scratch, &values).and_then(|_| {
+            if der_vrs.is_empty() {
+                Ok(())
+            } else {
+                s.slave.set_real_input_derivatives(&der_vrs, &orders, &der_values)
+            }
+        });
+        s.vrs = scratch;
+        s.values = values;
+        s.orders = orders;
+        s.der_vrs = der_vrs;
+        s.der_values = der_values;
+        r
+    }
+
+    /// One attempt at [t, t+h]; on failure returns the failing subsystem and leaves the FMUs wherever
+    /// they got to (the caller rolls back).
+    fn try_step(&mut self, h: f64) -> Result<(), StepError> {
+        let t = self.t;
+        let mut stepped = vec![false; self.subs.len()];
+        for g in 0..self.groups.len() {
+            let group = self.groups[g].clone();
+            for &i in &group {
+                self.set_inputs(i, t, h, &stepped).map_err(|error| StepError { subsystem: self.subs[i].name.clone(), error, t_s: t })?;
+            }
+            let mut members: Vec<&mut Subsystem> =
+                self.subs.iter_mut().enumerate().filter(|(i, _)| group.contains(i)).map(|(_, s)| s).collect();
+            let results: Vec<(String, Result<(), CallError>)> = if self.parallel && members.len() > 1 {
+                let mut results: Vec<Option<Result<(), CallError>>> = (0..members.len()).map(|_| None).collect();
+                rayon::scope(|scope| {
+                    let mut slots = results.iter_mut();
+                    let mut iter = members.iter_mut();
+                    let first = iter.next().map(|m| (m, slots.next().unwrap()));
+                    for (m, slot) in iter.zip(slots) {
+                        scope.spawn(move |_| *slot = Some(m.do_step(t, h)));
+                    }
+                    if let Some((m, slot)) = first {
+                        *slot = Some(m.do_step(t, h));
+                    }
+                });
+                members.iter().map(|m| m.name.clone()).zip(results.into_iter().map(|r| r.expect("every task ran"))).collect()
+            } else {
+                members.iter_mut().map(|m| (m.name.clone(), m.do_step(t, h))).collect()
+            };
+            for (name, r) in results {
+                r.map_err(|error| StepError { subsystem: name, error, t_s: t })?;
+            }
+            for &i in &group {
+                let v = self.subs[i].read_coupling().map_err(|error| StepError { subsystem: self.subs[i].name.clone(), error, t_s: t + h })?;
+                self.subs[i].push_history(t + h, v);
+                stepped[i] = true;
+            }
+        }
+        self.t = t + h;
+        Ok(())
+    }
+
+    fn save_states(&mut self) -> Result<(), StepError> {
+        for s in &mut self.subs {
+            let r = match &mut s.state {
+                Some(st) => s.slave.update_state(st),
+                None => s.slave.get_state().map(|st| s.state = Some(st)),
+            };
+            r.map_err(|error| StepError { subsystem: s.name.clone(), error, t_s: self.t })?;
+        }
+        self.saved = Some(Saved {
+            t: self.t,
+            history: self.subs.iter().map(|s| s.history.clone()).collect(),
+            replay: Vec::with_capacity(self.save_every),
+        });
+        Ok(())
+    }
+
+    fn restore_saved(&mut self) -> Result<Vec<f64>, StepError> {
+        let saved = self.saved.take().expect("a saved point exists when rollback is on");
+        for (s, h) in self.subs.iter_mut().zip(&saved.history) {
+            let st = s.state.as_ref().expect("saved before the step");
+            s.slave.set_state(st).map_err(|error| StepError { subsystem: s.name.clone(), error, t_s: saved.t })?;
+            s.history = h.clone();
+        }
+        self.t = saved.t;
+        let replay = saved.replay.clone();
+        self.saved = Some(Saved { replay: Vec::with_capacity(self.save_every), ..saved });
+        Ok(replay)
+    }
+
+    /// Advances by one macro step `h`. With rollback on, FMU states are saved every `save_every`
+    /// macro steps (saving an air-film state copies ~1 MB, too much for every step); a discarded step
+    /// restores that point, replays the steps since (the FMUs are deterministic, so the replay is
+    /// exact), and retries the failed interval in two halves, recursively.
+    pub fn step(&mut self, h: f64) -> Result<(), StepError> {
+        if self.rollback && self.saved.as_ref().is_none_or(|s| s.replay.len() >= self.save_every) {
+            self.save_states()?;
+        }
+        match self.try_step(h) {
+            Ok(()) => {}
+            Err(e) if self.rollback && e.error.status == Status::Discard => {
+                let t_fail = self.t;
+                eprintln!("{e}: rolling back and retrying [{t_fail} s, {} s] in halves", t_fail + h);
+                let replay = self.restore_saved()?;
+                for dt in replay {
+                    self.try_step(dt)?;
+                    self.saved.as_mut().expect("saved").replay.push(dt);
+                }
+                self.retries += 1;
+                self.step_halves(h, 1)?;
+            }
+            Err(e) => return Err(e),
+        }
+        if let Some(s) = self.saved.as_mut() {
+            s.replay.push(h);
+        }
+        self.macro_steps += 1;
+        Ok(())
+    }
+
+    /// Retries [t, t+h] as two halves, each saved before it is tried, down to h / 2^MAX_HALVINGS.
+    fn step_halves(&mut self, h: f64, depth: u32) -> Result<(), StepError> {
+        for _ in 0..2 {
+            let half = h / 2.0;
+            self.save_states()?;
+            match self.try_step(half) {
+                Ok(()) => {}
+                Err(e) if e.error.status == Status::Discard && depth < MAX_HALVINGS => {
+                    self.restore_saved()?;
+                    self.step_halves(half, depth + 1)?;
+                }
+                Err(e) => return Err(e),
+            }
+        }
+        // The next macro step saves afresh: the replay list of this point would be inconsistent.
+        self.saved = None;
+        Ok(())
+    }
+
+    /// Current value of a Real variable of subsystem `i`.
+    pub fn get(&self, i: usize, vr: u32, out: &mut f64) -> Result<(), CallError> {
+        let mut v = [0.0];
+        self.subs[i].slave.get_real(&[vr], &mut v)?;
+        *out = v[0];
+        Ok(())
+    }
+
+    /// Index of a subsystem by name.
+    pub fn index(&self, name: &str) -> Option<usize> {
+        self.subs.iter().position(|s| s.name == name)
+    }
+
+    /// Serialized FMU states of all subsystems at the current time (for checkpoints).
+    pub fn serialize_states(&self) -> Result<Vec<Vec<u8>>, StepError> {
+        self.subs
+            .iter()
+            .map(|s| {
+                let err = |error| StepError { subsystem: s.name.clone(), error, t_s: self.t };
+                let st = s.slave.get_state().map_err(err)?;
+                s.slave.serialize_state(&st).map_err(err)
+            })
+            .collect()
+    }
+
+    /// Restores serialized FMU states (from `serialize_states`) and the master's histories.
+    pub fn restore_serialized(&mut self, t: f64, states: &[Vec<u8>], history: Vec<VecDeque<(f64, Vec<f64>)>>) -> Result<(), StepError> {
+        for ((s, bytes), h) in self.subs.iter_mut().zip(states).zip(history) {
+            let err = |error| StepError { subsystem: s.name.clone(), error, t_s: t };
+            let st = s.slave.deserialize_state(bytes).map_err(err)?;
+            s.slave.set_state(&st).map_err(err)?;
+            s.history = h;
+        }
+        self.t = t;
+        Ok(())
+    }
+
+    /// Checks every input is connected or intentionally left at its start value (diagnostic).
+    pub fn unconnected_inputs(&self, mds: &[&ModelDescription]) -> Vec<String> {
+        let mut out = vec![];
+        for (s, md) in self.subs.iter().zip(mds) {
+            for v in md.variables.iter().filter(|v| v.causality == Causality::Input) {
+                if !s.inputs.iter().any(|l| l.to_vr == v.vr) {
+                    out.push(format!("{}.{}", s.name, v.name));
+                }
+            }
+        }
+        out
+    }
+}

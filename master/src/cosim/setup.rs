@@ -1,0 +1,175 @@
+//! From a system file to instantiated, initialized FMUs wired together.
+
+use super::gauss_seidel::{CoSim, Link, Scheme, Subsystem};
+use crate::system::{split_port, split_quantity, System, SystemError};
+use fmi2::importer::{Fmu, LogHandler, LogRecord};
+use fmi2::{Causality, Status, VarType};
+use std::sync::Arc;
+
+/// A ready co-simulation and the settings it was built with.
+pub struct Built {
+    pub cosim: CoSim,
+    pub macro_step_s: f64,
+    pub stop_time_s: f64,
+    pub output_interval_s: f64,
+    /// Recorded variables: (subsystem index, value reference, "instance.variable", unit).
+    pub recorded: Vec<(usize, u32, String, String)>,
+}
+
+/// Prints FMU messages of status warning or worse (and debug messages when asked) with the
+/// instance name.
+pub fn stderr_logger() -> LogHandler {
+    Arc::new(|r: &LogRecord| {
+        if r.status >= Status::Warning || std::env::var_os("AIRRING_LOG_DEBUG").is_some() {
+            eprintln!("[{}] {} {}: {}", r.instance, r.status.name(), r.category, r.message);
+        }
+    })
+}
+
+fn set_parameter(sys: &System, fmu: &Fmu, inst: &str, sub: &fmi2::importer::Slave, name: &str, value: &toml::Spanned<toml::Value>) -> Result<(), SystemError> {
+    let field = format!("fmu '{inst}' parameters.{name}");
+    let md = &fmu.description;
+    let var = md.variable(name).ok_or_else(|| sys.error_at(value, &field, format!("'{}' has no variable '{name}'", md.model_name)))?;
+    if !matches!(var.causality, Causality::Parameter | Causality::Input) {
+        return Err(sys.error_at(value, &field, format!("'{name}' is a {} and cannot be set", var.causality.as_str())));
+    }
+    let err = |e: fmi2::importer::CallError| sys.error_at(value, &field, format!("the FMU refused the value ({e}; see its log above)"));
+    match (var.var_type, value.get_ref()) {
+        (VarType::Boolean, toml::Value::Boolean(b)) => sub.set_boolean(&[var.vr], &[*b]).map_err(err),
+        (VarType::Integer, toml::Value::Integer(i)) => {
+            let i = i32::try_from(*i).map_err(|_| sys.error_at(value, &field, "integer out of range"))?;
+            sub.set_integer(&[var.vr], &[i]).map_err(err)
+        }
+        (VarType::Real, v) => {
+            let si = match v {
+                toml::Value::Float(x) => *x,
+                toml::Value::Integer(i) => *i as f64,
+                toml::Value::String(s) => {
+                    let (num, unit) = split_quantity(s).ok_or_else(|| sys.error_at(value, &field, format!("'{s}' is not 'number unit'")))?;
+                    if unit.is_empty() {
+                        num
+                    } else {
+                        let (factor, offset) = md.to_unit(var, unit).ok_or_else(|| {
+                            let mut units: Vec<String> = var.unit.iter().cloned().collect();
+                            if let Some(u) = md.units.iter().find(|u| Some(&u.name) == var.unit.as_ref()) {
+                                units.extend(u.display_units.iter().map(|d| d.0.clone()));
+                            }
+                            sys.error_at(value, &field, format!("unit '{unit}' does not fit '{name}' (accepted: {})", units.join(", ")))
+                        })?;
+                        (num - offset) / factor
+                    }
+                }
+                other => return Err(sys.error_at(value, &field, format!("expected a number, found {other}"))),
+            };
+            sub.set_real(&[var.vr], &[si]).map_err(err)
+        }
+        (t, other) => Err(sys.error_at(value, &field, format!("expected a {} value, found {other}", t.as_str()))),
+    }
+}
+
+/// Loads, instantiates, parameterizes, connects and initializes everything in the system file.
+pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
+    let f = &sys.file;
+    let alg = &f.algorithm;
+    let macro_step_s = sys.seconds(&alg.macro_step, "algorithm.macro_step")?;
+    let stop_time_s = sys.seconds(&alg.stop_time, "algorithm.stop_time")?;
+    let output_interval_s = match &f.output.interval {
+        Some(v) => sys.seconds(v, "output.interval")?,
+        None => macro_step_s * 10.0,
+    };
+    let scheme = match alg.kind.get_ref().as_str() {
+        "gauss-seidel" => Scheme::GaussSeidel,
+        "jacobi" => Scheme::Jacobi,
+        other => return Err(sys.error_at(&alg.kind, "algorithm.kind", format!("'{other}' is neither 'gauss-seidel' nor 'jacobi'"))),
+    };
+    for (o, name) in [(&alg.extrapolation_order, "algorithm.extrapolation_order"), (&alg.interpolation_order, "algorithm.interpolation_order")] {
+        if *o.get_ref() > 2 {
+            return Err(sys.error_at(o, name, "polynomial order must be 0, 1 or 2"));
+        }
+    }
+
+    let mut fmus = Vec::new();
+    let mut subs: Vec<Subsystem> = Vec::new();
+    for e in &f.fmu {
+        let name = e.name.get_ref().clone();
+        if subs.iter().any(|s| s.name == name) {
+            return Err(sys.error_at(&e.name, "fmu.name", format!("instance name '{name}' is used twice")));
+        }
+        let path = sys.resolve(e.path.get_ref());
+        let fmu = Fmu::load(&path).map_err(|err| sys.error_at(&e.path, "fmu.path", err))?;
+        let slave = fmu.instantiate(&name, false, log.clone()).map_err(|err| sys.error_at(&e.name, "fmu", err))?;
+        slave.setup_experiment(None, 0.0, Some(stop_time_s)).map_err(|err| sys.error_at(&e.name, "fmu", err))?;
+        slave.enter_initialization_mode().map_err(|err| sys.error_at(&e.name, "fmu", err))?;
+        for (pname, value) in &e.parameters {
+            set_parameter(sys, &fmu, &name, &slave, pname, value)?;
+        }
+        subs.push(Subsystem::new(name, slave, &fmu.description));
+        fmus.push(fmu);
+    }
+
+    let names: Vec<String> = subs.iter().map(|s| s.name.clone()).collect();
+    let find = |port: &toml::Spanned<String>, field: &str, want: Causality| -> Result<(usize, u32), SystemError> {
+        let (inst, var) = split_port(port.get_ref()).ok_or_else(|| sys.error_at(port, field, "expected 'instance.variable'"))?;
+        let i = names.iter().position(|s| s == inst).ok_or_else(|| sys.error_at(port, field, format!("no FMU instance '{inst}'")))?;
+        let v = fmus[i].description.variable(var).ok_or_else(|| sys.error_at(port, field, format!("'{inst}' has no variable '{var}'")))?;
+        if v.causality != want || v.var_type != VarType::Real {
+            return Err(sys.error_at(port, field, format!("'{inst}.{var}' is not a Real {}", want.as_str())));
+        }
+        Ok((i, v.vr))
+    };
+    let mut links: Vec<(usize, Link)> = Vec::new();
+    for c in &f.connection {
+        let (si, svr) = find(&c.from, "connection.from", Causality::Output)?;
+        let (di, dvr) = find(&c.to, "connection.to", Causality::Input)?;
+        if links.iter().any(|(d, l)| *d == di && l.to_vr == dvr) {
+            return Err(sys.error_at(&c.to, "connection.to", "this input is already connected"));
+        }
+        let from_slot = subs[si].coupling_slot(svr);
+        links.push((di, Link { to_vr: dvr, from: si, from_slot }));
+    }
+    for (di, l) in links {
+        subs[di].inputs.push(l);
+    }
+
+    let order: Vec<usize> = match &alg.order {
+        None => (0..subs.len()).collect(),
+        Some(o) => {
+            let mut idx = Vec::new();
+            for name in o.get_ref() {
+                let i = subs.iter().position(|s| &s.name == name).ok_or_else(|| sys.error_at(o, "algorithm.order", format!("no FMU instance '{name}'")))?;
+                if idx.contains(&i) {
+                    return Err(sys.error_at(o, "algorithm.order", format!("'{name}' appears twice")));
+                }
+                idx.push(i);
+            }
+            if idx.len() != subs.len() {
+                return Err(sys.error_at(o, "algorithm.order", "must list every FMU instance once"));
+            }
+            idx
+        }
+    };
+
+    let mut recorded = Vec::new();
+    for v in &f.output.variables {
+        let (inst, var) = split_port(v.get_ref()).ok_or_else(|| sys.error_at(v, "output.variables", "expected 'instance.variable'"))?;
+        let i = subs.iter().position(|s| s.name == inst).ok_or_else(|| sys.error_at(v, "output.variables", format!("no FMU instance '{inst}'")))?;
+        let sv = fmus[i].description.variable(var).ok_or_else(|| sys.error_at(v, "output.variables", format!("'{inst}' has no variable '{var}'")))?;
+        if sv.var_type != VarType::Real {
+            return Err(sys.error_at(v, "output.variables", format!("'{inst}.{var}' is not Real")));
+        }
+        recorded.push((i, sv.vr, v.get_ref().clone(), sv.unit.clone().unwrap_or_default()));
+    }
+
+    let cosim = CoSim::initialize(
+        subs,
+        order,
+        scheme,
+        *alg.extrapolation_order.get_ref() as usize,
+        *alg.interpolation_order.get_ref() as usize,
+        alg.rollback,
+        alg.parallel,
+        fmus,
+    )
+    .map_err(|e| SystemError(format!("{}: initialization failed: {e}", sys.path.display())))?;
+    Ok(Built { cosim, macro_step_s, stop_time_s, output_interval_s, recorded })
+}

@@ -1,0 +1,76 @@
+//! CSV time series, flushed at least every second of wall time so a killed run keeps its data.
+
+use std::fs::{File, OpenOptions};
+use std::io::{BufWriter, Seek, Write};
+use std::path::Path;
+use std::time::{Duration, Instant};
+
+pub struct TimeSeriesWriter {
+    out: BufWriter<File>,
+    last_flush: Instant,
+    /// Bytes written so far (the checkpoint records it to truncate on resume).
+    pub bytes: u64,
+}
+
+const FLUSH_EVERY: Duration = Duration::from_secs(1);
+
+impl TimeSeriesWriter {
+    /// New file with the header `time [s]`, then `name [unit]` per column.
+    pub fn create(path: &Path, columns: &[(String, String)]) -> std::io::Result<Self> {
+        let mut w = TimeSeriesWriter { out: BufWriter::new(File::create(path)?), last_flush: Instant::now(), bytes: 0 };
+        let mut header = String::from("time [s]");
+        for (name, unit) in columns {
+            header.push_str(&format!(",{name} [{}]", if unit.is_empty() { "1" } else { unit }));
+        }
+        header.push('\n');
+        w.write_raw(header.as_bytes())?;
+        w.out.flush()?;
+        Ok(w)
+    }
+
+    /// Reopens a file for appending after `bytes` (everything later, from after the checkpoint, is cut).
+    pub fn resume(path: &Path, bytes: u64) -> std::io::Result<Self> {
+        let f = OpenOptions::new().write(true).open(path)?;
+        f.set_len(bytes)?;
+        let mut f = f;
+        f.seek(std::io::SeekFrom::End(0))?;
+        Ok(TimeSeriesWriter { out: BufWriter::new(f), last_flush: Instant::now(), bytes })
+    }
+
+    fn write_raw(&mut self, b: &[u8]) -> std::io::Result<()> {
+        self.out.write_all(b)?;
+        self.bytes += b.len() as u64;
+        Ok(())
+    }
+
+    pub fn row(&mut self, t: f64, values: &[f64]) -> std::io::Result<()> {
+        let mut line = format!("{t:?}");
+        for v in values {
+            line.push(',');
+            line.push_str(&format!("{v:?}"));
+        }
+        line.push('\n');
+        self.write_raw(line.as_bytes())?;
+        if self.last_flush.elapsed() >= FLUSH_EVERY {
+            self.flush()?;
+        }
+        Ok(())
+    }
+
+    pub fn flush(&mut self) -> std::io::Result<()> {
+        self.last_flush = Instant::now();
+        self.out.flush()
+    }
+}
+
+/// Reads a time series back: (column names, rows of time + values).
+pub fn read(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f64>>)> {
+    let text = std::fs::read_to_string(path)?;
+    let mut lines = text.lines();
+    let header: Vec<String> = lines.next().unwrap_or("").split(',').map(|s| s.to_string()).collect();
+    let rows = lines
+        .filter(|l| !l.is_empty())
+        .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap_or(f64::NAN)).collect())
+        .collect();
+    Ok((header, rows))
+}
