@@ -4,6 +4,9 @@ fn main() {
     #[cfg(feature = "importer")]
     {
         println!("cargo:rerun-if-changed=src/importer/logger_shim.c");
-        cc::Build::new().file("src/importer/logger_shim.c").warnings(true).compile("fmi2_logger_shim");
+        cc::Build::new()
+            .file("src/importer/logger_shim.c")
+            .warnings(true)
+            .compile("fmi2_logger_shim");
     }
 }

@@ -34,7 +34,11 @@ unsafe fn instance<'a, M: Model>(c: Fmi2Component) -> Option<&'a mut Instance<M>
 }
 
 /// Runs `body` on the instance behind `c`, catching panics.
-fn with<M: Model>(c: Fmi2Component, function: &str, body: impl FnOnce(&mut Instance<M>) -> Status) -> Fmi2StatusRaw {
+fn with<M: Model>(
+    c: Fmi2Component,
+    function: &str,
+    body: impl FnOnce(&mut Instance<M>) -> Status,
+) -> Fmi2StatusRaw {
     // SAFETY: FMI contract: the importer passes the component it got from fmi2Instantiate.
     let Some(inst) = (unsafe { instance::<M>(c) }) else {
         return ERROR;
@@ -46,7 +50,14 @@ fn with<M: Model>(c: Fmi2Component, function: &str, body: impl FnOnce(&mut Insta
             // SAFETY: the closure that borrowed the instance has ended (it unwound).
             let inst = unsafe { &mut *inst_ptr };
             inst.core.phase = Phase::Error;
-            inst.logger.reject(Status::Error, function, &format!("internal error (panic caught): {}", panic_message(&*payload)));
+            inst.logger.reject(
+                Status::Error,
+                function,
+                &format!(
+                    "internal error (panic caught): {}",
+                    panic_message(&*payload)
+                ),
+            );
             ERROR
         }
     }
@@ -92,7 +103,11 @@ unsafe fn string<'a>(s: Fmi2String) -> Option<&'a str> {
 }
 
 fn null_argument(inst: &Instance<impl Model>, function: &str, what: &str) -> Status {
-    inst.logger.reject(Status::Error, function, &format!("{what} is a null pointer"));
+    inst.logger.reject(
+        Status::Error,
+        function,
+        &format!("{what} is a null pointer"),
+    );
     Status::Error
 }
 
@@ -119,16 +134,28 @@ pub unsafe fn instantiate<M: Model>(
         // SAFETY: FMI contract: a null or valid callback struct.
         let callbacks = unsafe { functions.as_ref() }.copied();
         // SAFETY: FMI contract: NUL-terminated strings or null.
-        let (name, guid, res) = unsafe { (string(instance_name), string(guid), string(resource_location)) };
+        let (name, guid, res) = unsafe {
+            (
+                string(instance_name),
+                string(guid),
+                string(resource_location),
+            )
+        };
         let refuse = |reason: &str| {
             let logger = Logger::new(callbacks, name.unwrap_or("?"), true, &[]);
             logger.reject(Status::Error, "fmi2Instantiate", reason);
             std::ptr::null_mut()
         };
-        let Some(name) = name else { return refuse("instanceName is null or not UTF-8") };
-        let Some(guid) = guid else { return refuse("fmuGUID is null or not UTF-8") };
+        let Some(name) = name else {
+            return refuse("instanceName is null or not UTF-8");
+        };
+        let Some(guid) = guid else {
+            return refuse("fmuGUID is null or not UTF-8");
+        };
         if fmu_type != FMI2_CO_SIMULATION {
-            return refuse("this FMU supports Co-Simulation only (fmuType must be fmi2CoSimulation)");
+            return refuse(
+                "this FMU supports Co-Simulation only (fmuType must be fmi2CoSimulation)",
+            );
         }
         match Instance::<M>::new(name, guid, res, callbacks, logging_on != 0) {
             Ok(inst) => Box::into_raw(Box::new(inst)) as Fmi2Component,
@@ -158,18 +185,28 @@ pub unsafe fn free_instance<M: Model>(c: Fmi2Component) {
 
 /// # Safety
 /// FMI 2.0 `fmi2SetDebugLogging`.
-pub unsafe fn set_debug_logging<M: Model>(c: Fmi2Component, on: Fmi2Boolean, n: usize, categories: *const Fmi2String) -> Fmi2StatusRaw {
+pub unsafe fn set_debug_logging<M: Model>(
+    c: Fmi2Component,
+    on: Fmi2Boolean,
+    n: usize,
+    categories: *const Fmi2String,
+) -> Fmi2StatusRaw {
     with::<M>(c, "fmi2SetDebugLogging", |inst| {
         // SAFETY: FMI contract: n category strings.
         let Some(cats) = (unsafe { slice(categories, n) }) else {
             return null_argument(inst, "fmi2SetDebugLogging", "categories");
         };
         // SAFETY: each entry is a C string or null (null is refused below).
-        let names: Option<Vec<String>> = cats.iter().map(|s| unsafe { string(*s) }.map(str::to_owned)).collect();
+        let names: Option<Vec<String>> = cats
+            .iter()
+            .map(|s| unsafe { string(*s) }.map(str::to_owned))
+            .collect();
         let Some(names) = names else {
             return null_argument(inst, "fmi2SetDebugLogging", "a category name");
         };
-        inst.run("fmi2SetDebugLogging", |i| i.set_debug_logging(on != 0, &names))
+        inst.run("fmi2SetDebugLogging", |i| {
+            i.set_debug_logging(on != 0, &names)
+        })
     })
 }
 
@@ -183,21 +220,35 @@ pub fn setup_experiment<M: Model>(
 ) -> Fmi2StatusRaw {
     with::<M>(c, "fmi2SetupExperiment", |inst| {
         inst.run("fmi2SetupExperiment", |i| {
-            i.setup_experiment((tolerance_defined != 0).then_some(tolerance), start, (stop_defined != 0).then_some(stop))
+            i.setup_experiment(
+                (tolerance_defined != 0).then_some(tolerance),
+                start,
+                (stop_defined != 0).then_some(stop),
+            )
         })
     })
 }
 
 pub fn enter_initialization_mode<M: Model>(c: Fmi2Component) -> Fmi2StatusRaw {
-    with::<M>(c, "fmi2EnterInitializationMode", |i| i.run("fmi2EnterInitializationMode", |i| i.enter_initialization_mode()))
+    with::<M>(c, "fmi2EnterInitializationMode", |i| {
+        i.run("fmi2EnterInitializationMode", |i| {
+            i.enter_initialization_mode()
+        })
+    })
 }
 
 pub fn exit_initialization_mode<M: Model>(c: Fmi2Component) -> Fmi2StatusRaw {
-    with::<M>(c, "fmi2ExitInitializationMode", |i| i.run("fmi2ExitInitializationMode", |i| i.exit_initialization_mode()))
+    with::<M>(c, "fmi2ExitInitializationMode", |i| {
+        i.run("fmi2ExitInitializationMode", |i| {
+            i.exit_initialization_mode()
+        })
+    })
 }
 
 pub fn terminate<M: Model>(c: Fmi2Component) -> Fmi2StatusRaw {
-    with::<M>(c, "fmi2Terminate", |i| i.run("fmi2Terminate", |i| i.terminate()))
+    with::<M>(c, "fmi2Terminate", |i| {
+        i.run("fmi2Terminate", |i| i.terminate())
+    })
 }
 
 pub fn reset<M: Model>(c: Fmi2Component) -> Fmi2StatusRaw {
@@ -208,10 +259,17 @@ macro_rules! getter {
     ($name:ident, $fmi:literal, $ty:ty, $method:ident, $conv:expr) => {
         /// # Safety
         /// FMI 2.0 getter: `vr` and `value` point to `n` elements.
-        pub unsafe fn $name<M: Model>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *mut $ty) -> Fmi2StatusRaw {
+        pub unsafe fn $name<M: Model>(
+            c: Fmi2Component,
+            vr: *const Fmi2ValueReference,
+            n: usize,
+            value: *mut $ty,
+        ) -> Fmi2StatusRaw {
             with::<M>(c, $fmi, |inst| {
                 // SAFETY: FMI contract.
-                let (Some(vrs), Some(out)) = (unsafe { slice(vr, n) }, unsafe { slice_mut(value, n) }) else {
+                let (Some(vrs), Some(out)) =
+                    (unsafe { slice(vr, n) }, unsafe { slice_mut(value, n) })
+                else {
                     return null_argument(inst, $fmi, "vr or value");
                 };
                 let mut tmp = vec![Default::default(); n];
@@ -229,24 +287,44 @@ macro_rules! getter {
 
 getter!(get_real, "fmi2GetReal", f64, get_real, |x: f64| x);
 getter!(get_integer, "fmi2GetInteger", i32, get_integer, |x: i32| x);
-getter!(get_boolean, "fmi2GetBoolean", Fmi2Boolean, get_boolean, |x: bool| x as Fmi2Boolean);
+getter!(
+    get_boolean,
+    "fmi2GetBoolean",
+    Fmi2Boolean,
+    get_boolean,
+    |x: bool| x as Fmi2Boolean
+);
 
 /// # Safety
 /// FMI 2.0 `fmi2GetString`.
-pub unsafe fn get_string<M: Model>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, _value: *mut Fmi2String) -> Fmi2StatusRaw {
+pub unsafe fn get_string<M: Model>(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    n: usize,
+    _value: *mut Fmi2String,
+) -> Fmi2StatusRaw {
     with::<M>(c, "fmi2GetString", |inst| {
         // SAFETY: FMI contract.
-        let Some(vrs) = (unsafe { slice(vr, n) }) else { return null_argument(inst, "fmi2GetString", "vr") };
+        let Some(vrs) = (unsafe { slice(vr, n) }) else {
+            return null_argument(inst, "fmi2GetString", "vr");
+        };
         inst.run("fmi2GetString", |i| i.no_strings(vrs))
     })
 }
 
 /// # Safety
 /// FMI 2.0 `fmi2SetString`.
-pub unsafe fn set_string<M: Model>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, _value: *const Fmi2String) -> Fmi2StatusRaw {
+pub unsafe fn set_string<M: Model>(
+    c: Fmi2Component,
+    vr: *const Fmi2ValueReference,
+    n: usize,
+    _value: *const Fmi2String,
+) -> Fmi2StatusRaw {
     with::<M>(c, "fmi2SetString", |inst| {
         // SAFETY: FMI contract.
-        let Some(vrs) = (unsafe { slice(vr, n) }) else { return null_argument(inst, "fmi2SetString", "vr") };
+        let Some(vrs) = (unsafe { slice(vr, n) }) else {
+            return null_argument(inst, "fmi2SetString", "vr");
+        };
         inst.run("fmi2SetString", |i| i.no_strings(vrs))
     })
 }
@@ -255,10 +333,16 @@ macro_rules! setter {
     ($name:ident, $fmi:literal, $ty:ty, $method:ident, $conv:expr) => {
         /// # Safety
         /// FMI 2.0 setter: `vr` and `value` point to `n` elements.
-        pub unsafe fn $name<M: Model>(c: Fmi2Component, vr: *const Fmi2ValueReference, n: usize, value: *const $ty) -> Fmi2StatusRaw {
+        pub unsafe fn $name<M: Model>(
+            c: Fmi2Component,
+            vr: *const Fmi2ValueReference,
+            n: usize,
+            value: *const $ty,
+        ) -> Fmi2StatusRaw {
             with::<M>(c, $fmi, |inst| {
                 // SAFETY: FMI contract.
-                let (Some(vrs), Some(vals)) = (unsafe { slice(vr, n) }, unsafe { slice(value, n) }) else {
+                let (Some(vrs), Some(vals)) = (unsafe { slice(vr, n) }, unsafe { slice(value, n) })
+                else {
                     return null_argument(inst, $fmi, "vr or value");
                 };
                 let vals: Vec<_> = vals.iter().map(|x| $conv(*x)).collect();
@@ -270,7 +354,13 @@ macro_rules! setter {
 
 setter!(set_real, "fmi2SetReal", f64, set_real, |x: f64| x);
 setter!(set_integer, "fmi2SetInteger", i32, set_integer, |x: i32| x);
-setter!(set_boolean, "fmi2SetBoolean", Fmi2Boolean, set_boolean, |x: Fmi2Boolean| x != 0);
+setter!(
+    set_boolean,
+    "fmi2SetBoolean",
+    Fmi2Boolean,
+    set_boolean,
+    |x: Fmi2Boolean| x != 0
+);
 
 /// An FMU state handed to the importer: a boxed core plus a magic to recognise it.
 pub struct StateBox<M: Model> {
@@ -304,7 +394,12 @@ pub unsafe fn get_fmu_state<M: Model>(c: Fmi2Component, state: *mut Fmi2FmuState
             unsafe {
                 match state_ref::<M>(*state) {
                     Some(existing) => existing.core = core,
-                    None => *state = Box::into_raw(Box::new(StateBox { magic: STATE_MAGIC, core })) as Fmi2FmuState,
+                    None => {
+                        *state = Box::into_raw(Box::new(StateBox {
+                            magic: STATE_MAGIC,
+                            core,
+                        })) as Fmi2FmuState
+                    }
                 }
             }
             Ok(Status::Ok)
@@ -318,7 +413,11 @@ pub unsafe fn set_fmu_state<M: Model>(c: Fmi2Component, state: Fmi2FmuState) -> 
     with::<M>(c, "fmi2SetFMUstate", |inst| {
         // SAFETY: FMI contract.
         let Some(b) = (unsafe { state_ref::<M>(state) }) else {
-            inst.logger.reject(Status::Error, "fmi2SetFMUstate", "FMUstate is null or not a state of this FMU");
+            inst.logger.reject(
+                Status::Error,
+                "fmi2SetFMUstate",
+                "FMUstate is null or not a state of this FMU",
+            );
             return Status::Error;
         };
         inst.run("fmi2SetFMUstate", |i| i.restore(&b.core))
@@ -327,7 +426,10 @@ pub unsafe fn set_fmu_state<M: Model>(c: Fmi2Component, state: Fmi2FmuState) -> 
 
 /// # Safety
 /// FMI 2.0 `fmi2FreeFMUstate`.
-pub unsafe fn free_fmu_state<M: Model>(c: Fmi2Component, state: *mut Fmi2FmuState) -> Fmi2StatusRaw {
+pub unsafe fn free_fmu_state<M: Model>(
+    c: Fmi2Component,
+    state: *mut Fmi2FmuState,
+) -> Fmi2StatusRaw {
     with::<M>(c, "fmi2FreeFMUstate", |inst| {
         if state.is_null() {
             return null_argument(inst, "fmi2FreeFMUstate", "FMUstate");
@@ -338,7 +440,8 @@ pub unsafe fn free_fmu_state<M: Model>(c: Fmi2Component, state: *mut Fmi2FmuStat
                 return Status::Ok;
             }
             if state_ref::<M>(*state).is_none() {
-                inst.logger.reject(Status::Error, "fmi2FreeFMUstate", "not a state of this FMU");
+                inst.logger
+                    .reject(Status::Error, "fmi2FreeFMUstate", "not a state of this FMU");
                 return Status::Error;
             }
             let mut b = Box::from_raw(*state as *mut StateBox<M>);
@@ -352,7 +455,11 @@ pub unsafe fn free_fmu_state<M: Model>(c: Fmi2Component, state: *mut Fmi2FmuStat
 
 /// # Safety
 /// FMI 2.0 `fmi2SerializedFMUstateSize`.
-pub unsafe fn serialized_fmu_state_size<M: Model>(c: Fmi2Component, state: Fmi2FmuState, size: *mut usize) -> Fmi2StatusRaw {
+pub unsafe fn serialized_fmu_state_size<M: Model>(
+    c: Fmi2Component,
+    state: Fmi2FmuState,
+    size: *mut usize,
+) -> Fmi2StatusRaw {
     with::<M>(c, "fmi2SerializedFMUstateSize", |inst| {
         // SAFETY: FMI contract.
         let (Some(b), false) = (unsafe { state_ref::<M>(state) }, size.is_null()) else {
@@ -366,10 +473,17 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(c: Fmi2Component, state: Fmi2F
 
 /// # Safety
 /// FMI 2.0 `fmi2SerializeFMUstate`: `bytes` has room for `size` bytes.
-pub unsafe fn serialize_fmu_state<M: Model>(c: Fmi2Component, state: Fmi2FmuState, bytes: *mut Fmi2Byte, size: usize) -> Fmi2StatusRaw {
+pub unsafe fn serialize_fmu_state<M: Model>(
+    c: Fmi2Component,
+    state: Fmi2FmuState,
+    bytes: *mut Fmi2Byte,
+    size: usize,
+) -> Fmi2StatusRaw {
     with::<M>(c, "fmi2SerializeFMUstate", |inst| {
         // SAFETY: FMI contract.
-        let (Some(b), Some(out)) = (unsafe { state_ref::<M>(state) }, unsafe { slice_mut(bytes as *mut u8, size) }) else {
+        let (Some(b), Some(out)) = (unsafe { state_ref::<M>(state) }, unsafe {
+            slice_mut(bytes as *mut u8, size)
+        }) else {
             return null_argument(inst, "fmi2SerializeFMUstate", "FMUstate or serializedState");
         };
         let blob = crate::snapshot::serialize(&b.core, &inst.guid);
@@ -377,7 +491,10 @@ pub unsafe fn serialize_fmu_state<M: Model>(c: Fmi2Component, state: Fmi2FmuStat
             inst.logger.reject(
                 Status::Error,
                 "fmi2SerializeFMUstate",
-                &format!("size {size} differs from fmi2SerializedFMUstateSize {}", blob.len()),
+                &format!(
+                    "size {size} differs from fmi2SerializedFMUstateSize {}",
+                    blob.len()
+                ),
             );
             return Status::Error;
         }
@@ -396,8 +513,13 @@ pub unsafe fn de_serialize_fmu_state<M: Model>(
 ) -> Fmi2StatusRaw {
     with::<M>(c, "fmi2DeSerializeFMUstate", |inst| {
         // SAFETY: FMI contract.
-        let (Some(data), false) = (unsafe { slice(bytes as *const u8, size) }, state.is_null()) else {
-            return null_argument(inst, "fmi2DeSerializeFMUstate", "serializedState or FMUstate");
+        let (Some(data), false) = (unsafe { slice(bytes as *const u8, size) }, state.is_null())
+        else {
+            return null_argument(
+                inst,
+                "fmi2DeSerializeFMUstate",
+                "serializedState or FMUstate",
+            );
         };
         let shape = crate::model::Store::from_info(&inst.info);
         match crate::snapshot::deserialize::<M>(data, &inst.guid, &shape) {
@@ -406,13 +528,19 @@ pub unsafe fn de_serialize_fmu_state<M: Model>(
                 unsafe {
                     match state_ref::<M>(*state) {
                         Some(existing) => existing.core = core,
-                        None => *state = Box::into_raw(Box::new(StateBox { magic: STATE_MAGIC, core })) as Fmi2FmuState,
+                        None => {
+                            *state = Box::into_raw(Box::new(StateBox {
+                                magic: STATE_MAGIC,
+                                core,
+                            })) as Fmi2FmuState
+                        }
                     }
                 }
                 Status::Ok
             }
             Err(e) => {
-                inst.logger.reject(Status::Error, "fmi2DeSerializeFMUstate", &e);
+                inst.logger
+                    .reject(Status::Error, "fmi2DeSerializeFMUstate", &e);
                 Status::Error
             }
         }
@@ -438,7 +566,11 @@ pub unsafe fn set_real_input_derivatives<M: Model>(
     const F: &str = "fmi2SetRealInputDerivatives";
     with::<M>(c, F, |inst| {
         // SAFETY: FMI contract.
-        let (Some(vrs), Some(ord), Some(vals)) = (unsafe { slice(vr, n) }, unsafe { slice(order, n) }, unsafe { slice(value, n) }) else {
+        let (Some(vrs), Some(ord), Some(vals)) = (
+            unsafe { slice(vr, n) },
+            unsafe { slice(order, n) },
+            unsafe { slice(value, n) },
+        ) else {
             return null_argument(inst, F, "vr, order or value");
         };
         inst.run(F, |i| i.set_input_derivatives(vrs, ord, vals))
@@ -457,19 +589,34 @@ pub unsafe fn get_real_output_derivatives<M: Model>(
     const F: &str = "fmi2GetRealOutputDerivatives";
     with::<M>(c, F, |inst| {
         // SAFETY: FMI contract.
-        let (Some(vrs), Some(ord), Some(out)) = (unsafe { slice(vr, n) }, unsafe { slice(order, n) }, unsafe { slice_mut(value, n) }) else {
+        let (Some(vrs), Some(ord), Some(out)) = (
+            unsafe { slice(vr, n) },
+            unsafe { slice(order, n) },
+            unsafe { slice_mut(value, n) },
+        ) else {
             return null_argument(inst, F, "vr, order or value");
         };
         inst.run(F, |i| i.get_output_derivatives(vrs, ord, out))
     })
 }
 
-pub fn do_step<M: Model>(c: Fmi2Component, t: f64, h: f64, _no_set_prior: Fmi2Boolean) -> Fmi2StatusRaw {
-    with::<M>(c, "fmi2DoStep", |i| i.run("fmi2DoStep", |i| i.do_step(t, h)))
+pub fn do_step<M: Model>(
+    c: Fmi2Component,
+    t: f64,
+    h: f64,
+    _no_set_prior: Fmi2Boolean,
+) -> Fmi2StatusRaw {
+    with::<M>(c, "fmi2DoStep", |i| {
+        i.run("fmi2DoStep", |i| i.do_step(t, h))
+    })
 }
 
 pub fn cancel_step<M: Model>(c: Fmi2Component) -> Fmi2StatusRaw {
-    unsupported::<M>(c, "fmi2CancelStep", "no asynchronous step is ever in progress (canRunAsynchronuously=false)")
+    unsupported::<M>(
+        c,
+        "fmi2CancelStep",
+        "no asynchronous step is ever in progress (canRunAsynchronuously=false)",
+    )
 }
 
 /// The four typed status getters share their checks here.
@@ -486,7 +633,10 @@ fn status_query<M: Model, T>(
         }
         inst.run(function, |i| {
             i.status_allowed()?;
-            let v = answer(i, kind).ok_or((Status::Discard, format!("status kind {kind} is not available here")))?;
+            let v = answer(i, kind).ok_or((
+                Status::Discard,
+                format!("status kind {kind} is not available here"),
+            ))?;
             // SAFETY: checked non-null; FMI contract: points to one element.
             unsafe { *out = v };
             Ok(Status::Ok)
@@ -494,7 +644,11 @@ fn status_query<M: Model, T>(
     })
 }
 
-pub fn get_status<M: Model>(c: Fmi2Component, kind: Fmi2StatusKind, out: *mut Fmi2StatusRaw) -> Fmi2StatusRaw {
+pub fn get_status<M: Model>(
+    c: Fmi2Component,
+    kind: Fmi2StatusKind,
+    out: *mut Fmi2StatusRaw,
+) -> Fmi2StatusRaw {
     status_query::<M, Fmi2StatusRaw>(c, "fmi2GetStatus", kind, out, |i, k| {
         (k == FMI2_DO_STEP_STATUS).then_some(match i.core.phase {
             Phase::StepFailed => Status::Discard as c_int,
@@ -504,21 +658,39 @@ pub fn get_status<M: Model>(c: Fmi2Component, kind: Fmi2StatusKind, out: *mut Fm
     })
 }
 
-pub fn get_real_status<M: Model>(c: Fmi2Component, kind: Fmi2StatusKind, out: *mut f64) -> Fmi2StatusRaw {
+pub fn get_real_status<M: Model>(
+    c: Fmi2Component,
+    kind: Fmi2StatusKind,
+    out: *mut f64,
+) -> Fmi2StatusRaw {
     status_query::<M, f64>(c, "fmi2GetRealStatus", kind, out, |i, k| {
         (k == FMI2_LAST_SUCCESSFUL_TIME).then_some(i.core.last_successful_time)
     })
 }
 
-pub fn get_integer_status<M: Model>(c: Fmi2Component, kind: Fmi2StatusKind, out: *mut Fmi2Integer) -> Fmi2StatusRaw {
+pub fn get_integer_status<M: Model>(
+    c: Fmi2Component,
+    kind: Fmi2StatusKind,
+    out: *mut Fmi2Integer,
+) -> Fmi2StatusRaw {
     status_query::<M, Fmi2Integer>(c, "fmi2GetIntegerStatus", kind, out, |_, _| None)
 }
 
-pub fn get_boolean_status<M: Model>(c: Fmi2Component, kind: Fmi2StatusKind, out: *mut Fmi2Boolean) -> Fmi2StatusRaw {
+pub fn get_boolean_status<M: Model>(
+    c: Fmi2Component,
+    kind: Fmi2StatusKind,
+    out: *mut Fmi2Boolean,
+) -> Fmi2StatusRaw {
     // fmi2Terminated: true when the slave wants to end the simulation; ours never do.
-    status_query::<M, Fmi2Boolean>(c, "fmi2GetBooleanStatus", kind, out, |_, k| (k == FMI2_TERMINATED).then_some(FMI2_FALSE))
+    status_query::<M, Fmi2Boolean>(c, "fmi2GetBooleanStatus", kind, out, |_, k| {
+        (k == FMI2_TERMINATED).then_some(FMI2_FALSE)
+    })
 }
 
-pub fn get_string_status<M: Model>(c: Fmi2Component, kind: Fmi2StatusKind, out: *mut Fmi2String) -> Fmi2StatusRaw {
+pub fn get_string_status<M: Model>(
+    c: Fmi2Component,
+    kind: Fmi2StatusKind,
+    out: *mut Fmi2String,
+) -> Fmi2StatusRaw {
     status_query::<M, Fmi2String>(c, "fmi2GetStringStatus", kind, out, |_, _| None)
 }

@@ -108,7 +108,12 @@ impl<M: Model> Instance<M> {
         logging_on: bool,
     ) -> Result<Self, (Logger, String)> {
         let info = M::info();
-        let logger = Logger::new(callbacks, instance_name, logging_on, &info.all_log_categories());
+        let logger = Logger::new(
+            callbacks,
+            instance_name,
+            logging_on,
+            &info.all_log_categories(),
+        );
         if instance_name.is_empty() {
             return Err((logger, "instanceName must not be empty".into()));
         }
@@ -120,14 +125,21 @@ impl<M: Model> Instance<M> {
             ));
         }
         if let Err(e) = info.check() {
-            return Err((logger, format!("the model's variable table is inconsistent: {e}")));
+            return Err((
+                logger,
+                format!("the model's variable table is inconsistent: {e}"),
+            ));
         }
         let resource_dir = match resource_location {
             None | Some("") => None,
             Some(uri) => match crate::resource::uri_to_path(uri) {
                 Ok(p) => Some(p),
                 Err(e) => {
-                    logger.log(Status::Warning, "logStatusWarning", &format!("fmi2Instantiate: {e}; resources unavailable"));
+                    logger.log(
+                        Status::Warning,
+                        "logStatusWarning",
+                        &format!("fmi2Instantiate: {e}; resources unavailable"),
+                    );
                     None
                 }
             },
@@ -176,7 +188,10 @@ impl<M: Model> Instance<M> {
         if allowed.contains(&self.core.phase) {
             Ok(())
         } else {
-            Err((Status::Error, format!("not allowed in state '{}'", self.core.phase.name())))
+            Err((
+                Status::Error,
+                format!("not allowed in state '{}'", self.core.phase.name()),
+            ))
         }
     }
 
@@ -185,18 +200,28 @@ impl<M: Model> Instance<M> {
         if unknown.is_empty() {
             Ok(Status::Ok)
         } else {
-            Err((Status::Warning, format!("unknown log categories {unknown:?} ignored")))
+            Err((
+                Status::Warning,
+                format!("unknown log categories {unknown:?} ignored"),
+            ))
         }
     }
 
-    pub fn setup_experiment(&mut self, tolerance: Option<f64>, start: f64, stop: Option<f64>) -> Res {
+    pub fn setup_experiment(
+        &mut self,
+        tolerance: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Res {
         self.require(&[Phase::Instantiated])?;
         if !start.is_finite() {
             return err(format!("startTime {start} is not finite"));
         }
         if let Some(stop) = stop {
             if !(stop.is_finite() && stop >= start) {
-                return err(format!("stopTime {stop} must be finite and >= startTime {start}"));
+                return err(format!(
+                    "stopTime {stop} must be finite and >= startTime {start}"
+                ));
             }
         }
         if let Some(tol) = tolerance {
@@ -225,7 +250,8 @@ impl<M: Model> Instance<M> {
             return Ok(());
         }
         let mut log = ModelLog(&self.logger);
-        let model = M::new(&self.core.store, self.core.start_time, &mut log).map_err(|e| (Status::Error, e))?;
+        let model = M::new(&self.core.store, self.core.start_time, &mut log)
+            .map_err(|e| (Status::Error, e))?;
         model.write_outputs(&mut self.core.store);
         self.core.model = Some(model);
         self.core.model_stale = false;
@@ -262,7 +288,9 @@ impl<M: Model> Instance<M> {
         c.stop_time = None;
         c.tolerance = None;
         c.last_successful_time = de.start_time;
-        c.input_derivatives.iter_mut().for_each(|d| *d = [0.0; MAX_INPUT_DERIVATIVE_ORDER]);
+        c.input_derivatives
+            .iter_mut()
+            .for_each(|d| *d = [0.0; MAX_INPUT_DERIVATIVE_ORDER]);
         Ok(Status::Ok)
     }
 
@@ -329,7 +357,9 @@ impl<M: Model> Instance<M> {
             Phase::Error,
         ])?;
         match vrs.first() {
-            Some(vr) => err(format!("unknown String value reference {vr} (this FMU has no String variables)")),
+            Some(vr) => err(format!(
+                "unknown String value reference {vr} (this FMU has no String variables)"
+            )),
             None => Ok(Status::Ok),
         }
     }
@@ -366,12 +396,18 @@ impl<M: Model> Instance<M> {
         }
         if let Some(min) = v.min {
             if x < min {
-                return err(format!("value {x} {unit} for '{}' is below its minimum {min} {unit}", v.name));
+                return err(format!(
+                    "value {x} {unit} for '{}' is below its minimum {min} {unit}",
+                    v.name
+                ));
             }
         }
         if let Some(max) = v.max {
             if x > max {
-                return err(format!("value {x} {unit} for '{}' is above its maximum {max} {unit}", v.name));
+                return err(format!(
+                    "value {x} {unit} for '{}' is above its maximum {max} {unit}",
+                    v.name
+                ));
             }
         }
         Ok(())
@@ -422,7 +458,11 @@ impl<M: Model> Instance<M> {
     /// fmi2SetRealInputDerivatives: the k-th derivative of each input at the current communication
     /// point. They shape the inputs of the next fmi2DoStep only and are cleared after it.
     pub fn set_input_derivatives(&mut self, vrs: &[u32], orders: &[i32], values: &[f64]) -> Res {
-        self.require(&[Phase::Instantiated, Phase::InitializationMode, Phase::StepComplete])?;
+        self.require(&[
+            Phase::Instantiated,
+            Phase::InitializationMode,
+            Phase::StepComplete,
+        ])?;
         self.check_vrs(VarType::Real, vrs)?;
         for ((vr, order), x) in vrs.iter().zip(orders).zip(values) {
             let v = self.info.variable(VarType::Real, *vr).expect("checked");
@@ -430,7 +470,10 @@ impl<M: Model> Instance<M> {
                 return err(format!("'{}' is not an input", v.name));
             }
             if *order < 1 || *order as usize > MAX_INPUT_DERIVATIVE_ORDER {
-                return err(format!("derivative order {order} for '{}' is outside 1..={MAX_INPUT_DERIVATIVE_ORDER}", v.name));
+                return err(format!(
+                    "derivative order {order} for '{}' is outside 1..={MAX_INPUT_DERIVATIVE_ORDER}",
+                    v.name
+                ));
             }
             if !x.is_finite() {
                 return err(format!("derivative {x} for '{}' is not finite", v.name));
@@ -443,17 +486,30 @@ impl<M: Model> Instance<M> {
     }
 
     pub fn get_output_derivatives(&mut self, vrs: &[u32], orders: &[i32], out: &mut [f64]) -> Res {
-        self.require(&[Phase::StepComplete, Phase::StepFailed, Phase::Terminated, Phase::Error])?;
+        self.require(&[
+            Phase::StepComplete,
+            Phase::StepFailed,
+            Phase::Terminated,
+            Phase::Error,
+        ])?;
         self.check_vrs(VarType::Real, vrs)?;
-        let model = self.core.model.as_ref().ok_or((Status::Error, "the model is not initialized".to_string()))?;
+        let model = self
+            .core
+            .model
+            .as_ref()
+            .ok_or((Status::Error, "the model is not initialized".to_string()))?;
         for ((vr, order), o) in vrs.iter().zip(orders).zip(out.iter_mut()) {
             let v = self.info.variable(VarType::Real, *vr).expect("checked");
             if v.causality != Causality::Output {
                 return err(format!("'{}' is not an output", v.name));
             }
-            *o = model
-                .output_derivative(*vr, *order)
-                .ok_or((Status::Error, format!("derivative of order {order} of '{}' is not provided", v.name)))?;
+            *o = model.output_derivative(*vr, *order).ok_or((
+                Status::Error,
+                format!(
+                    "derivative of order {order} of '{}' is not provided",
+                    v.name
+                ),
+            ))?;
         }
         Ok(Status::Ok)
     }
@@ -473,16 +529,28 @@ impl<M: Model> Instance<M> {
         }
         if let Some(stop) = self.core.stop_time {
             if t + h > stop + slack {
-                return err(format!("step to {} s passes the stopTime {stop} s given in fmi2SetupExperiment", t + h));
+                return err(format!(
+                    "step to {} s passes the stopTime {stop} s given in fmi2SetupExperiment",
+                    t + h
+                ));
             }
         }
         self.inputs.t0 = t;
         self.inputs.values.copy_from_slice(&self.core.store.reals);
-        self.inputs.derivatives.copy_from_slice(&self.core.input_derivatives);
-        let model = self.core.model.as_mut().expect("a model exists after initialization");
+        self.inputs
+            .derivatives
+            .copy_from_slice(&self.core.input_derivatives);
+        let model = self
+            .core
+            .model
+            .as_mut()
+            .expect("a model exists after initialization");
         let mut log = ModelLog(&self.logger);
         let outcome = model.do_step(t, h, &self.inputs, &mut log);
-        self.core.input_derivatives.iter_mut().for_each(|d| *d = [0.0; MAX_INPUT_DERIVATIVE_ORDER]);
+        self.core
+            .input_derivatives
+            .iter_mut()
+            .for_each(|d| *d = [0.0; MAX_INPUT_DERIVATIVE_ORDER]);
         match outcome {
             StepOutcome::Ok => {
                 model.write_outputs(&mut self.core.store);
@@ -490,16 +558,25 @@ impl<M: Model> Instance<M> {
                 self.core.last_successful_time = t + h;
                 Ok(Status::Ok)
             }
-            StepOutcome::Discard { reason, reached_time } => {
+            StepOutcome::Discard {
+                reason,
+                reached_time,
+            } => {
                 model.write_outputs(&mut self.core.store);
                 self.core.time = reached_time;
                 self.core.last_successful_time = reached_time;
                 self.core.phase = Phase::StepFailed;
-                Err((Status::Discard, format!("step from {t} s by {h} s stopped at {reached_time} s: {reason}")))
+                Err((
+                    Status::Discard,
+                    format!("step from {t} s by {h} s stopped at {reached_time} s: {reason}"),
+                ))
             }
             StepOutcome::Error(reason) => {
                 self.core.phase = Phase::Error;
-                Err((Status::Error, format!("step from {t} s by {h} s failed: {reason}")))
+                Err((
+                    Status::Error,
+                    format!("step from {t} s by {h} s failed: {reason}"),
+                ))
             }
         }
     }

@@ -26,4 +26,6 @@ pub mod importer;
 
 pub use model::{Inputs, Log, Model, StepOutcome, Store};
 pub use types::Status;
-pub use variables::{Causality, DefaultExperiment, Initial, ModelInfo, VarType, Variability, Variable};
+pub use variables::{
+    Causality, DefaultExperiment, Initial, ModelInfo, VarType, Variability, Variable,
+};

@@ -58,7 +58,11 @@ impl Logger {
     }
 
     fn enabled(&self, category: &str) -> bool {
-        self.logging_on && self.categories.iter().any(|(n, on)| *on && (*n == category || *n == "logAll"))
+        self.logging_on
+            && self
+                .categories
+                .iter()
+                .any(|(n, on)| *on && (*n == category || *n == "logAll"))
     }
 
     /// Sends one message. Statuses of fmi2Warning and worse are always sent.

@@ -87,7 +87,10 @@ pub enum StepOutcome {
     Ok,
     /// The step could not be completed; the model reached `reached_time` and keeps that state.
     /// The instance reports fmi2Discard and fmi2LastSuccessfulTime = `reached_time`.
-    Discard { reason: String, reached_time: f64 },
+    Discard {
+        reason: String,
+        reached_time: f64,
+    },
     /// Unrecoverable: the instance goes to the error state.
     Error(String),
 }

@@ -14,7 +14,9 @@ pub fn uri_to_path(uri: &str) -> Result<PathBuf, String> {
         let slash = after.find('/').unwrap_or(after.len());
         let host = &after[..slash];
         if !(host.is_empty() || host.eq_ignore_ascii_case("localhost")) {
-            return Err(format!("resource location '{uri}' names a remote host '{host}'"));
+            return Err(format!(
+                "resource location '{uri}' names a remote host '{host}'"
+            ));
         }
         &after[slash..]
     } else {
@@ -66,9 +68,15 @@ mod tests {
 
     #[test]
     fn accepts_the_usual_forms() {
-        assert_eq!(uri_to_path("file:///tmp/a%20b/").unwrap(), PathBuf::from("/tmp/a b/"));
+        assert_eq!(
+            uri_to_path("file:///tmp/a%20b/").unwrap(),
+            PathBuf::from("/tmp/a b/")
+        );
         assert_eq!(uri_to_path("file:/tmp/x").unwrap(), PathBuf::from("/tmp/x"));
-        assert_eq!(uri_to_path("file://localhost/tmp/x").unwrap(), PathBuf::from("/tmp/x"));
+        assert_eq!(
+            uri_to_path("file://localhost/tmp/x").unwrap(),
+            PathBuf::from("/tmp/x")
+        );
     }
 
     #[test]

@@ -49,7 +49,11 @@ impl<'a> Reader<'a> {
         Reader { data, pos: 0 }
     }
     fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
-        let end = self.pos.checked_add(n).filter(|&e| e <= self.data.len()).ok_or("the FMU state is truncated")?;
+        let end = self
+            .pos
+            .checked_add(n)
+            .filter(|&e| e <= self.data.len())
+            .ok_or("the FMU state is truncated")?;
         let s = &self.data[self.pos..end];
         self.pos = end;
         Ok(s)
@@ -78,7 +82,9 @@ impl<'a> Reader<'a> {
     pub fn len_checked(&mut self, expected: usize, what: &str) -> Result<(), String> {
         let n = self.u64()?;
         if n != expected as u64 {
-            return Err(format!("the FMU state holds {n} {what}, this FMU has {expected}"));
+            return Err(format!(
+                "the FMU state holds {n} {what}, this FMU has {expected}"
+            ));
         }
         Ok(())
     }
@@ -104,7 +110,10 @@ pub fn serialize<M: Model>(core: &Core<M>, guid: &str) -> Vec<u8> {
     p.u64(s.booleans.len() as u64);
     s.booleans.iter().for_each(|x| p.u8(*x as u8));
     p.u64(core.input_derivatives.len() as u64);
-    core.input_derivatives.iter().flatten().for_each(|x| p.f64(*x));
+    core.input_derivatives
+        .iter()
+        .flatten()
+        .for_each(|x| p.f64(*x));
     match &core.model {
         Some(m) => {
             p.u8(1);
@@ -137,11 +146,16 @@ pub fn deserialize<M: Model>(data: &[u8], guid: &str, shape: &Store) -> Result<C
     let mut r = Reader::new(&body[MAGIC.len()..]);
     let version = r.u32()?;
     if version != FORMAT_VERSION {
-        return Err(format!("FMU state format version {version} is not supported (expected {FORMAT_VERSION})"));
+        return Err(format!(
+            "FMU state format version {version} is not supported (expected {FORMAT_VERSION})"
+        ));
     }
     let their_guid = r.bytes()?;
     if their_guid != guid.as_bytes() {
-        return Err(format!("the FMU state belongs to another FMU (GUID {})", String::from_utf8_lossy(their_guid)));
+        return Err(format!(
+            "the FMU state belongs to another FMU (GUID {})",
+            String::from_utf8_lossy(their_guid)
+        ));
     }
     let payload = r.bytes()?;
     if !r.finished() {
@@ -177,7 +191,9 @@ pub fn deserialize<M: Model>(data: &[u8], guid: &str, shape: &Store) -> Result<C
     }
     let model = match p.u8()? {
         0 => None,
-        1 => Some(M::deserialize(p.bytes()?).map_err(|e| format!("the model state is invalid: {e}"))?),
+        1 => Some(
+            M::deserialize(p.bytes()?).map_err(|e| format!("the model state is invalid: {e}"))?,
+        ),
         _ => return Err("bad model flag in the FMU state".into()),
     };
     if !p.finished() {

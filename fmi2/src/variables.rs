@@ -120,7 +120,13 @@ impl Variable {
         }
     }
     /// A fixed Real parameter with a start value.
-    pub fn real_parameter(name: &'static str, vr: u32, start: f64, unit: &'static str, description: &'static str) -> Self {
+    pub fn real_parameter(
+        name: &'static str,
+        vr: u32,
+        start: f64,
+        unit: &'static str,
+        description: &'static str,
+    ) -> Self {
         Variable {
             causality: Causality::Parameter,
             variability: Variability::Fixed,
@@ -131,7 +137,12 @@ impl Variable {
         }
     }
     /// A fixed Integer parameter.
-    pub fn integer_parameter(name: &'static str, vr: u32, start: i32, description: &'static str) -> Self {
+    pub fn integer_parameter(
+        name: &'static str,
+        vr: u32,
+        start: i32,
+        description: &'static str,
+    ) -> Self {
         Variable {
             causality: Causality::Parameter,
             variability: Variability::Fixed,
@@ -141,7 +152,12 @@ impl Variable {
         }
     }
     /// A fixed Boolean parameter.
-    pub fn boolean_parameter(name: &'static str, vr: u32, start: bool, description: &'static str) -> Self {
+    pub fn boolean_parameter(
+        name: &'static str,
+        vr: u32,
+        start: bool,
+        description: &'static str,
+    ) -> Self {
         Variable {
             causality: Causality::Parameter,
             variability: Variability::Fixed,
@@ -151,7 +167,13 @@ impl Variable {
         }
     }
     /// A continuous Real input with a start value.
-    pub fn real_input(name: &'static str, vr: u32, start: f64, unit: &'static str, description: &'static str) -> Self {
+    pub fn real_input(
+        name: &'static str,
+        vr: u32,
+        start: f64,
+        unit: &'static str,
+        description: &'static str,
+    ) -> Self {
         Variable {
             causality: Causality::Input,
             variability: Variability::Continuous,
@@ -161,7 +183,12 @@ impl Variable {
         }
     }
     /// A continuous Real output computed by the model.
-    pub fn real_output(name: &'static str, vr: u32, unit: &'static str, description: &'static str) -> Self {
+    pub fn real_output(
+        name: &'static str,
+        vr: u32,
+        unit: &'static str,
+        description: &'static str,
+    ) -> Self {
         Variable {
             causality: Causality::Output,
             variability: Variability::Continuous,
@@ -243,7 +270,9 @@ impl ModelInfo {
     }
 
     pub fn variable(&self, t: VarType, vr: u32) -> Option<&Variable> {
-        self.variables.iter().find(|v| v.var_type == t && v.vr == vr)
+        self.variables
+            .iter()
+            .find(|v| v.var_type == t && v.vr == vr)
     }
 
     pub fn by_name(&self, name: &str) -> Option<&Variable> {
@@ -261,11 +290,19 @@ impl ModelInfo {
     /// where FMI requires them and none where it forbids them, known units.
     pub fn check(&self) -> Result<(), String> {
         for t in [VarType::Real, VarType::Integer, VarType::Boolean] {
-            let mut vrs: Vec<u32> = self.variables.iter().filter(|v| v.var_type == t).map(|v| v.vr).collect();
+            let mut vrs: Vec<u32> = self
+                .variables
+                .iter()
+                .filter(|v| v.var_type == t)
+                .map(|v| v.vr)
+                .collect();
             vrs.sort_unstable();
             for (i, vr) in vrs.iter().enumerate() {
                 if *vr != i as u32 {
-                    return Err(format!("{} value references must be dense 0..n, found {vrs:?}", t.as_str()));
+                    return Err(format!(
+                        "{} value references must be dense 0..n, found {vrs:?}",
+                        t.as_str()
+                    ));
                 }
             }
         }
@@ -279,17 +316,27 @@ impl ModelInfo {
                 return Err(format!("variable '{}' needs a start value", a.name));
             }
             if a.initial == Some(Initial::Calculated) && a.start.is_some() {
-                return Err(format!("calculated variable '{}' must not have a start value", a.name));
+                return Err(format!(
+                    "calculated variable '{}' must not have a start value",
+                    a.name
+                ));
             }
             if let Some(u) = a.unit {
-                let def = crate::units::unit(u).ok_or_else(|| format!("variable '{}': unknown unit '{u}'", a.name))?;
+                let def = crate::units::unit(u)
+                    .ok_or_else(|| format!("variable '{}': unknown unit '{u}'", a.name))?;
                 if let Some(d) = a.display_unit {
                     if !def.display_units.iter().any(|du| du.0 == d) {
-                        return Err(format!("variable '{}': '{d}' is not a display unit of '{u}'", a.name));
+                        return Err(format!(
+                            "variable '{}': '{d}' is not a display unit of '{u}'",
+                            a.name
+                        ));
                     }
                 }
             } else if a.display_unit.is_some() {
-                return Err(format!("variable '{}' has a display unit but no unit", a.name));
+                return Err(format!(
+                    "variable '{}' has a display unit but no unit",
+                    a.name
+                ));
             }
         }
         Ok(())

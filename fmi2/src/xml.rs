@@ -6,7 +6,10 @@ use std::fmt::Write;
 
 /// XML attribute escaping.
 pub fn escape(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;").replace('"', "&quot;")
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 /// Shortest decimal that reads back to the same f64.
@@ -55,7 +58,14 @@ pub fn model_description(info: &ModelInfo) -> String {
             }
             writeln!(x, "      <BaseUnit{base}/>").unwrap();
             for (dn, factor, offset) in u.display_units {
-                writeln!(x, r#"      <DisplayUnit name="{}" factor="{}" offset="{}"/>"#, escape(dn), num(*factor), num(*offset)).unwrap();
+                writeln!(
+                    x,
+                    r#"      <DisplayUnit name="{}" factor="{}" offset="{}"/>"#,
+                    escape(dn),
+                    num(*factor),
+                    num(*offset)
+                )
+                .unwrap();
             }
             writeln!(x, "    </Unit>").unwrap();
         }
@@ -64,7 +74,13 @@ pub fn model_description(info: &ModelInfo) -> String {
 
     writeln!(x, "  <LogCategories>").unwrap();
     for (name, desc) in info.all_log_categories() {
-        writeln!(x, r#"    <Category name="{}" description="{}"/>"#, escape(name), escape(desc)).unwrap();
+        writeln!(
+            x,
+            r#"    <Category name="{}" description="{}"/>"#,
+            escape(name),
+            escape(desc)
+        )
+        .unwrap();
     }
     writeln!(x, "  </LogCategories>").unwrap();
     writeln!(
@@ -134,8 +150,13 @@ pub fn model_description(info: &ModelInfo) -> String {
     writeln!(x, "  </ModelVariables>").unwrap();
 
     writeln!(x, "  <ModelStructure>").unwrap();
-    let outputs: Vec<usize> =
-        info.variables.iter().enumerate().filter(|(_, v)| v.causality == Causality::Output).map(|(i, _)| i + 1).collect();
+    let outputs: Vec<usize> = info
+        .variables
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.causality == Causality::Output)
+        .map(|(i, _)| i + 1)
+        .collect();
     if !outputs.is_empty() {
         writeln!(x, "    <Outputs>").unwrap();
         for i in &outputs {
@@ -148,7 +169,8 @@ pub fn model_description(info: &ModelInfo) -> String {
         .iter()
         .enumerate()
         .filter(|(_, v)| {
-            (v.causality == Causality::Output && matches!(v.initial, Some(Initial::Approx | Initial::Calculated)))
+            (v.causality == Causality::Output
+                && matches!(v.initial, Some(Initial::Approx | Initial::Calculated)))
                 || v.causality == Causality::CalculatedParameter
         })
         .map(|(i, _)| i + 1)
@@ -169,7 +191,7 @@ pub fn model_description(info: &ModelInfo) -> String {
 pub fn documentation(info: &ModelInfo) -> String {
     let mut rows = String::new();
     for v in &info.variables {
-        let start = v.start.map(|s| num(s)).unwrap_or_default();
+        let start = v.start.map(num).unwrap_or_default();
         let display = match (v.unit, v.display_unit, v.start) {
             (Some(u), Some(d), Some(s)) => units::unit(u)
                 .and_then(|ud| ud.display_units.iter().find(|x| x.0 == d))

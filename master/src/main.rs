@@ -9,7 +9,11 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 
 #[derive(Parser)]
-#[command(name = "airring", version, about = "Rotors in air ring bearings: FMI 2.0 co-simulation master")]
+#[command(
+    name = "airring",
+    version,
+    about = "Rotors in air ring bearings: FMI 2.0 co-simulation master"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -124,7 +128,7 @@ enum Command {
 
 #[derive(clap::Args, Clone)]
 struct Common {
-    /// Output folder (default: runs/<name>-<timestamp>).
+    /// Output folder (default: `runs/<name>-<timestamp>`).
     #[arg(long)]
     out: Option<PathBuf>,
     /// Save a checkpoint every this many simulated seconds.
@@ -136,7 +140,10 @@ struct Common {
 }
 
 fn default_out(name: &str) -> PathBuf {
-    let secs = std::time::SystemTime::now().duration_since(std::time::UNIX_EPOCH).map(|d| d.as_secs()).unwrap_or(0);
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
     PathBuf::from("runs").join(format!("{name}-{secs}"))
 }
 
@@ -162,10 +169,16 @@ fn fmu_dir(given: Option<PathBuf>) -> Result<PathBuf, String> {
 }
 
 fn triple(s: &str, flag: &str) -> Result<(f64, f64, f64), String> {
-    let v: Vec<f64> = s.split(',').map(|x| x.trim().parse::<f64>()).collect::<Result<_, _>>().map_err(|_| format!("--{flag} expects mass_g,radius_mm,phase_deg"))?;
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--{flag} expects mass_g,radius_mm,phase_deg"))?;
     match v[..] {
         [m, r, p] if m >= 0.0 && r >= 0.0 => Ok((m, r, p)),
-        _ => Err(format!("--{flag} expects three numbers mass_g >= 0, radius_mm >= 0, phase_deg")),
+        _ => Err(format!(
+            "--{flag} expects three numbers mass_g >= 0, radius_mm >= 0, phase_deg"
+        )),
     }
 }
 
@@ -186,8 +199,14 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     s.jacobi = a.jacobi;
     if let Some(m) = &a.mesh {
         let (p, z) = m.split_once('x').ok_or("--mesh expects NxM, e.g. 20x6")?;
-        s.n_elem_phi = p.trim().parse().map_err(|_| "--mesh expects NxM, e.g. 20x6")?;
-        s.n_elem_z = z.trim().parse().map_err(|_| "--mesh expects NxM, e.g. 20x6")?;
+        s.n_elem_phi = p
+            .trim()
+            .parse()
+            .map_err(|_| "--mesh expects NxM, e.g. 20x6")?;
+        s.n_elem_z = z
+            .trim()
+            .parse()
+            .map_err(|_| "--mesh expects NxM, e.g. 20x6")?;
     }
     if let Some(i) = &a.imbalance_c {
         s.imbalance_c = triple(i, "imbalance-c")?;
@@ -201,7 +220,11 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
 
 /// The paper's three-lobe geometry with the given clearance and step height [um].
 fn lobes(clearance_um: f64, dh_um: f64) -> master::plot::LobeGeometry {
-    master::plot::LobeGeometry { c_m: clearance_um * 1e-6, dh_m: dh_um * 1e-6, ..master::plot::LobeGeometry::paper() }
+    master::plot::LobeGeometry {
+        c_m: clearance_um * 1e-6,
+        dh_m: dh_um * 1e-6,
+        ..master::plot::LobeGeometry::paper()
+    }
 }
 
 fn stop_flag() -> Arc<AtomicBool> {
@@ -248,7 +271,8 @@ fn main() -> ExitCode {
             let out = common.out.clone().unwrap_or_else(|| default_out(&s.preset));
             std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
             let sys_path = out.join("system.toml");
-            std::fs::write(&sys_path, s.system_toml(&dir.to_string_lossy())).map_err(|e| e.to_string())?;
+            std::fs::write(&sys_path, s.system_toml(&dir.to_string_lossy()))
+                .map_err(|e| e.to_string())?;
             eprintln!(
                 "run-up '{}': c = {} N/mm, d = {} N s/m, m_R = {} g, C = {} um, dH = {} um, 0 -> {} Hz in {} s; macro step {} us -> {}",
                 s.preset, s.c_n_per_mm, s.d_n_s_per_m, s.m_r_g, s.clearance_um, s.dh_um, s.f_max_hz, s.t_ramp_s, s.macro_step_us, out.display()
@@ -265,8 +289,15 @@ fn main() -> ExitCode {
             let report = run(&sys_path, &opts, false)?;
             Ok(finish(report, &out))
         }
-        Command::Run { system, common, clearance, dh } => {
-            let out = common.out.clone().unwrap_or_else(|| default_out(system.file_stem().and_then(|s| s.to_str()).unwrap_or("run")));
+        Command::Run {
+            system,
+            common,
+            clearance,
+            dh,
+        } => {
+            let out = common.out.clone().unwrap_or_else(|| {
+                default_out(system.file_stem().and_then(|s| s.to_str()).unwrap_or("run"))
+            });
             let opts = RunOptions {
                 out_dir: out.clone(),
                 checkpoint_every_s: common.checkpoint_every,
@@ -279,9 +310,17 @@ fn main() -> ExitCode {
             let report = run(&system, &opts, false)?;
             Ok(finish(report, &out))
         }
-        Command::Resume { dir, checkpoint_every } => {
-            let old: serde_json::Value = std::fs::read_to_string(dir.join("summary.json")).ok().and_then(|s| serde_json::from_str(&s).ok()).unwrap_or_default();
-            let geometry = old["settings"]["clearance_um"].as_f64().map(|c| lobes(c, old["settings"]["dh_um"].as_f64().unwrap_or(40.0)));
+        Command::Resume {
+            dir,
+            checkpoint_every,
+        } => {
+            let old: serde_json::Value = std::fs::read_to_string(dir.join("summary.json"))
+                .ok()
+                .and_then(|s| serde_json::from_str(&s).ok())
+                .unwrap_or_default();
+            let geometry = old["settings"]["clearance_um"]
+                .as_f64()
+                .map(|c| lobes(c, old["settings"]["dh_um"].as_f64().unwrap_or(40.0)));
             let opts = RunOptions {
                 out_dir: dir.clone(),
                 checkpoint_every_s: checkpoint_every,
@@ -294,7 +333,15 @@ fn main() -> ExitCode {
             let report = run(&dir.join("system.toml"), &opts, true)?;
             Ok(finish(report, &dir))
         }
-        Command::Modal { speed, c, d, film_stiffness, m_r, out } => master::modal::modal(&speed, c, d, film_stiffness, m_r, out.as_deref()).map(|_| ExitCode::SUCCESS),
+        Command::Modal {
+            speed,
+            c,
+            d,
+            film_stiffness,
+            m_r,
+            out,
+        } => master::modal::modal(&speed, c, d, film_stiffness, m_r, out.as_deref())
+            .map(|_| ExitCode::SUCCESS),
     })();
     match result {
         Ok(code) => code,

@@ -5,7 +5,14 @@ use fmu_rotor::linear::{lateral_matrices, modes, Whirl};
 use fmu_rotor::{FilmCoefficients, RotorParams};
 use std::path::Path;
 
-pub fn modal(speeds_hz: &[f64], c_n_per_mm: f64, d_n_s_per_m: f64, film_n_per_mm: f64, m_r_g: f64, out: Option<&Path>) -> Result<serde_json::Value, String> {
+pub fn modal(
+    speeds_hz: &[f64],
+    c_n_per_mm: f64,
+    d_n_s_per_m: f64,
+    film_n_per_mm: f64,
+    m_r_g: f64,
+    out: Option<&Path>,
+) -> Result<serde_json::Value, String> {
     let mut p = RotorParams::paper();
     p.c_c_n_m = c_n_per_mm * 1e3;
     p.c_t_n_m = c_n_per_mm * 1e3;
@@ -29,8 +36,18 @@ pub fn modal(speeds_hz: &[f64], c_n_per_mm: f64, d_n_s_per_m: f64, film_n_per_mm
         println!("speed {f} Hz:");
         let mut rows = vec![];
         for (k, m) in ms.iter().enumerate() {
-            let w = if m.whirl == Whirl::Forward { "forward" } else { "backward" };
-            println!("  {:2}. {:8.1} Hz  {:8}  {}", k + 1, m.freq_hz, w, m.shape.describe());
+            let w = if m.whirl == Whirl::Forward {
+                "forward"
+            } else {
+                "backward"
+            };
+            println!(
+                "  {:2}. {:8.1} Hz  {:8}  {}",
+                k + 1,
+                m.freq_hz,
+                w,
+                m.shape.describe()
+            );
             rows.push(serde_json::json!({
                 "freq_hz": m.freq_hz, "whirl": w, "damping_ratio": m.damping_ratio,
                 "node": m.shape.node().to_string(), "rotor_node_z_mm": 1e3 * m.shape.rotor_node_z_m,
@@ -45,7 +62,11 @@ pub fn modal(speeds_hz: &[f64], c_n_per_mm: f64, d_n_s_per_m: f64, film_n_per_mm
     });
     if let Some(dir) = out {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        std::fs::write(dir.join("modal.json"), serde_json::to_string_pretty(&v).unwrap()).map_err(|e| e.to_string())?;
+        std::fs::write(
+            dir.join("modal.json"),
+            serde_json::to_string_pretty(&v).unwrap(),
+        )
+        .map_err(|e| e.to_string())?;
         println!("wrote {}", dir.join("modal.json").display());
     }
     Ok(v)

@@ -2,10 +2,10 @@
 //! checkpoints, and the summary at the end (also when interrupted or failed).
 
 use crate::analysis::{classify, RunSeries};
-use crate::plot::{plot_runup, LobeGeometry};
 use crate::cosim::setup::{build, stderr_logger};
 use crate::output::checkpoint::{self, MasterState};
 use crate::output::timeseries::{self, TimeSeriesWriter};
+use crate::plot::{plot_runup, LobeGeometry};
 use crate::system::System;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -63,16 +63,33 @@ impl Progress {
             return;
         }
         let frac = (t / stop).clamp(0.0, 1.0);
-        let due = if self.tty { self.last.elapsed() >= Duration::from_millis(250) } else { frac - self.last_fraction_printed >= 0.05 };
+        let due = if self.tty {
+            self.last.elapsed() >= Duration::from_millis(250)
+        } else {
+            frac - self.last_fraction_printed >= 0.05
+        };
         if !(due || force) {
             return;
         }
         self.last = Instant::now();
         self.last_fraction_printed = frac;
         let elapsed = self.start.elapsed().as_secs_f64() + self.wall_before;
-        let eta = if frac > 1e-6 { elapsed * (1.0 - frac) / frac } else { f64::NAN };
-        let speed = omega_rad_s.map(|w| format!(" | {:7.1} Hz", w / std::f64::consts::TAU)).unwrap_or_default();
-        let line = format!("t = {:.4} s / {:.3} s ({:5.1} %){speed} | wall {:.0} s, ETA {:.0} s", t, stop, 100.0 * frac, elapsed, eta);
+        let eta = if frac > 1e-6 {
+            elapsed * (1.0 - frac) / frac
+        } else {
+            f64::NAN
+        };
+        let speed = omega_rad_s
+            .map(|w| format!(" | {:7.1} Hz", w / std::f64::consts::TAU))
+            .unwrap_or_default();
+        let line = format!(
+            "t = {:.4} s / {:.3} s ({:5.1} %){speed} | wall {:.0} s, ETA {:.0} s",
+            t,
+            stop,
+            100.0 * frac,
+            elapsed,
+            eta
+        );
         if self.tty {
             eprint!("\r{line}   ");
             if force {
@@ -87,10 +104,12 @@ impl Progress {
 /// Runs `system_path` into `opts.out_dir` (copying the system file there), or resumes from the
 /// checkpoint in `opts.out_dir` when `resume` is set.
 pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunReport, String> {
-    std::fs::create_dir_all(&opts.out_dir).map_err(|e| format!("{}: {e}", opts.out_dir.display()))?;
+    std::fs::create_dir_all(&opts.out_dir)
+        .map_err(|e| format!("{}: {e}", opts.out_dir.display()))?;
     let used = opts.out_dir.join("system.toml");
     if !resume {
-        let text = std::fs::read_to_string(system_path).map_err(|e| format!("{}: {e}", system_path.display()))?;
+        let text = std::fs::read_to_string(system_path)
+            .map_err(|e| format!("{}: {e}", system_path.display()))?;
         if system_path.canonicalize().ok() != used.canonicalize().ok() {
             std::fs::write(&used, &text).map_err(|e| format!("{}: {e}", used.display()))?;
         }
@@ -102,22 +121,35 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
     let n_steps = (stop / h).round() as u64;
     let interval = built.output_interval_s;
     let names: Vec<String> = built.cosim.subs.iter().map(|s| s.name.clone()).collect();
-    let columns: Vec<(String, String)> = built.recorded.iter().map(|(_, _, n, u)| (n.clone(), u.clone())).collect();
+    let columns: Vec<(String, String)> = built
+        .recorded
+        .iter()
+        .map(|(_, _, n, u)| (n.clone(), u.clone()))
+        .collect();
     let csv_path = opts.out_dir.join("timeseries.csv");
 
     let mut rows: Vec<Vec<f64>> = Vec::new();
     let (mut step_index, mut next_output, mut writer, wall_before) = if resume {
         let (m, states) = checkpoint::read(&opts.out_dir, &names)?;
         let t = f64::from_bits(m.t_bits);
-        let hist = m.histories.iter().map(|h| checkpoint::decode_history(h)).collect();
-        built.cosim.restore_serialized(t, &states, hist).map_err(|e| e.to_string())?;
-        let writer = TimeSeriesWriter::resume(&csv_path, m.csv_bytes).map_err(|e| format!("{}: {e}", csv_path.display()))?;
+        let hist = m
+            .histories
+            .iter()
+            .map(|h| checkpoint::decode_history(h))
+            .collect();
+        built
+            .cosim
+            .restore_serialized(t, &states, hist)
+            .map_err(|e| e.to_string())?;
+        let writer = TimeSeriesWriter::resume(&csv_path, m.csv_bytes)
+            .map_err(|e| format!("{}: {e}", csv_path.display()))?;
         let (_, old) = timeseries::read(&csv_path).map_err(|e| e.to_string())?;
         rows = old;
         eprintln!("resuming {} at t = {t} s", opts.out_dir.display());
         (m.step_index, m.next_output_index, writer, m.wall_before_s)
     } else {
-        let writer = TimeSeriesWriter::create(&csv_path, &columns).map_err(|e| format!("{}: {e}", csv_path.display()))?;
+        let writer = TimeSeriesWriter::create(&csv_path, &columns)
+            .map_err(|e| format!("{}: {e}", csv_path.display()))?;
         (0, 0, writer, 0.0)
     };
 
@@ -130,14 +162,21 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
         start,
         wall_before,
     };
-    let omega_port = built.recorded.iter().position(|(_, _, n, _)| n.ends_with(".omega"));
+    let omega_port = built
+        .recorded
+        .iter()
+        .position(|(_, _, n, _)| n.ends_with(".omega"));
     let mut values = vec![0.0; built.recorded.len()];
     let mut report = RunReport::default();
-    let mut next_checkpoint = opts.checkpoint_every_s.map(|dt| ((built.cosim.t / dt).floor() + 1.0) * dt);
+    let mut next_checkpoint = opts
+        .checkpoint_every_s
+        .map(|dt| ((built.cosim.t / dt).floor() + 1.0) * dt);
 
     let record = |cosim: &crate::cosim::CoSim, values: &mut [f64]| -> Result<(), String> {
         for ((i, vr, name, _), v) in built.recorded.iter().zip(values.iter_mut()) {
-            cosim.get(*i, *vr, v).map_err(|e| format!("reading {name}: {e}"))?;
+            cosim
+                .get(*i, *vr, v)
+                .map_err(|e| format!("reading {name}: {e}"))?;
         }
         Ok(())
     };
@@ -172,10 +211,16 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
                     step_index,
                     next_output_index: next_output,
                     csv_bytes: writer.bytes,
-                    histories: built.cosim.subs.iter().map(|s| checkpoint::encode_history(&s.history)).collect(),
+                    histories: built
+                        .cosim
+                        .subs
+                        .iter()
+                        .map(|s| checkpoint::encode_history(&s.history))
+                        .collect(),
                     wall_before_s: wall_before + start.elapsed().as_secs_f64(),
                 };
-                checkpoint::write(&opts.out_dir, &names, &states, &m).map_err(|e| format!("checkpoint: {e}"))?;
+                checkpoint::write(&opts.out_dir, &names, &states, &m)
+                    .map_err(|e| format!("checkpoint: {e}"))?;
                 if let (Some(tc), Some(dt)) = (next_checkpoint.as_mut(), opts.checkpoint_every_s) {
                     *tc += dt;
                 }
@@ -198,14 +243,23 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
     report.macro_steps = step_index;
     report.retries = built.cosim.retries;
     report.wall_time_s = wall_before + start.elapsed().as_secs_f64();
-    report.wall_per_subsystem_s = built.cosim.subs.iter().map(|s| (s.name.clone(), s.step_wall.as_secs_f64())).collect();
+    report.wall_per_subsystem_s = built
+        .cosim
+        .subs
+        .iter()
+        .map(|s| (s.name.clone(), s.step_wall.as_secs_f64()))
+        .collect();
     // With parallel films the FMU times overlap; the master's own share is what is left of the
     // wall time after the critical path (rotor + slowest film), never negative.
     let critical: f64 = built
         .cosim
         .groups
         .iter()
-        .map(|g| g.iter().map(|&i| built.cosim.subs[i].step_wall.as_secs_f64()).fold(0.0, f64::max))
+        .map(|g| {
+            g.iter()
+                .map(|&i| built.cosim.subs[i].step_wall.as_secs_f64())
+                .fold(0.0, f64::max)
+        })
         .sum();
     report.master_overhead_s = (start.elapsed().as_secs_f64() - critical).max(0.0);
 
@@ -215,13 +269,28 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
 
 /// Column of a recorded variable in `rows` (0 is time).
 fn column(recorded: &[(usize, u32, String, String)], name: &str) -> Option<usize> {
-    recorded.iter().position(|(_, _, n, _)| n == name).map(|k| k + 1)
+    recorded
+        .iter()
+        .position(|(_, _, n, _)| n == name)
+        .map(|k| k + 1)
 }
 
 /// The run-up series, if the standard rotor outputs were recorded.
-pub fn runup_series(recorded: &[(usize, u32, String, String)], rows: &[Vec<f64>], clearance_m: f64) -> Option<RunSeries> {
+pub fn runup_series(
+    recorded: &[(usize, u32, String, String)],
+    rows: &[Vec<f64>],
+    clearance_m: f64,
+) -> Option<RunSeries> {
     let col = |n: &str| column(recorded, n);
-    let cols = [col("rotor.omega")?, col("rotor.dx_C")?, col("rotor.dy_C")?, col("rotor.dx_T")?, col("rotor.dy_T")?, col("rotor.y_JC")?, col("rotor.y_JT")?];
+    let cols = [
+        col("rotor.omega")?,
+        col("rotor.dx_C")?,
+        col("rotor.dy_C")?,
+        col("rotor.dx_T")?,
+        col("rotor.dy_T")?,
+        col("rotor.y_JC")?,
+        col("rotor.y_JT")?,
+    ];
     let get = |k: usize| rows.iter().map(|r| r[k]).collect::<Vec<f64>>();
     Some(RunSeries {
         t_s: get(0),
@@ -236,7 +305,12 @@ pub fn runup_series(recorded: &[(usize, u32, String, String)], rows: &[Vec<f64>]
     })
 }
 
-fn write_summary(opts: &RunOptions, recorded: &[(usize, u32, String, String)], rows: &[Vec<f64>], report: &RunReport) -> Result<(), String> {
+fn write_summary(
+    opts: &RunOptions,
+    recorded: &[(usize, u32, String, String)],
+    rows: &[Vec<f64>],
+    report: &RunReport,
+) -> Result<(), String> {
     let mut summary = serde_json::json!({
         "status": if report.completed { "completed" } else if report.interrupted { "interrupted" } else { "failed" },
         "interrupted": report.interrupted,
@@ -265,14 +339,22 @@ fn write_summary(opts: &RunOptions, recorded: &[(usize, u32, String, String)], r
             summary["criteria"] = serde_json::json!(cl.criteria);
             summary["whirl"] = serde_json::to_value(&cl.whirl).unwrap_or_default();
             if !report.completed {
-                summary["classification_note"] = serde_json::json!("classified on the part of the run-up that was simulated");
+                summary["classification_note"] =
+                    serde_json::json!("classified on the part of the run-up that was simulated");
             }
             match plot_runup(&series, &cl, lobes, &opts.out_dir) {
-                Ok(files) => summary["plots"] = serde_json::json!(files.iter().filter_map(|f| f.file_name()).map(|f| f.to_string_lossy()).collect::<Vec<_>>()),
+                Ok(files) => {
+                    summary["plots"] = serde_json::json!(files
+                        .iter()
+                        .filter_map(|f| f.file_name())
+                        .map(|f| f.to_string_lossy())
+                        .collect::<Vec<_>>())
+                }
                 Err(e) => summary["plot_error"] = serde_json::json!(e.to_string()),
             }
         }
     }
     let path = opts.out_dir.join("summary.json");
-    std::fs::write(&path, serde_json::to_string_pretty(&summary).expect("json")).map_err(|e| format!("{}: {e}", path.display()))
+    std::fs::write(&path, serde_json::to_string_pretty(&summary).expect("json"))
+        .map_err(|e| format!("{}: {e}", path.display()))
 }

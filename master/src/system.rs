@@ -117,21 +117,39 @@ impl std::error::Error for SystemError {}
 
 impl System {
     pub fn load(path: &Path) -> Result<System, SystemError> {
-        let text = std::fs::read_to_string(path).map_err(|e| SystemError(format!("{}: {e}", path.display())))?;
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| SystemError(format!("{}: {e}", path.display())))?;
         Self::parse(path, text)
     }
 
     pub fn parse(path: &Path, text: String) -> Result<System, SystemError> {
         let file: SystemFile = toml::from_str(&text).map_err(|e| {
-            let line = e.span().map(|s| line_of(&text, s.start)).map(|l| format!(":{l}")).unwrap_or_default();
+            let line = e
+                .span()
+                .map(|s| line_of(&text, s.start))
+                .map(|l| format!(":{l}"))
+                .unwrap_or_default();
             SystemError(format!("{}{line}: {}", path.display(), e.message()))
         })?;
-        Ok(System { file, path: path.to_path_buf(), text })
+        Ok(System {
+            file,
+            path: path.to_path_buf(),
+            text,
+        })
     }
 
     /// "file:line: field: message" for a spanned value.
-    pub fn error_at<T>(&self, at: &Spanned<T>, field: &str, message: impl std::fmt::Display) -> SystemError {
-        SystemError(format!("{}:{}: {field}: {message}", self.path.display(), line_of(&self.text, at.span().start)))
+    pub fn error_at<T>(
+        &self,
+        at: &Spanned<T>,
+        field: &str,
+        message: impl std::fmt::Display,
+    ) -> SystemError {
+        SystemError(format!(
+            "{}:{}: {field}: {message}",
+            self.path.display(),
+            line_of(&self.text, at.span().start)
+        ))
     }
 
     /// FMU paths are relative to the system file's folder.
@@ -150,17 +168,27 @@ impl System {
             toml::Value::Float(x) => *x,
             toml::Value::Integer(i) => *i as f64,
             toml::Value::String(s) => {
-                let (num, unit) = split_quantity(s).ok_or_else(|| self.error_at(v, field, format!("'{s}' is not 'number unit'")))?;
+                let (num, unit) = split_quantity(s).ok_or_else(|| {
+                    self.error_at(v, field, format!("'{s}' is not 'number unit'"))
+                })?;
                 let factor = match unit {
                     "s" | "" => 1.0,
                     "ms" => 1e-3,
                     "us" => 1e-6,
                     "ns" => 1e-9,
-                    _ => return Err(self.error_at(v, field, format!("unknown time unit '{unit}' (use s, ms, us)"))),
+                    _ => {
+                        return Err(self.error_at(
+                            v,
+                            field,
+                            format!("unknown time unit '{unit}' (use s, ms, us)"),
+                        ))
+                    }
                 };
                 num * factor
             }
-            other => return Err(self.error_at(v, field, format!("expected a time, found {other}"))),
+            other => {
+                return Err(self.error_at(v, field, format!("expected a time, found {other}")))
+            }
         };
         if !(x.is_finite() && x > 0.0) {
             return Err(self.error_at(v, field, format!("must be a positive time, found {x} s")));
@@ -171,7 +199,11 @@ impl System {
 
 /// 1-based line number of a byte offset.
 pub fn line_of(text: &str, offset: usize) -> usize {
-    text[..offset.min(text.len())].bytes().filter(|b| *b == b'\n').count() + 1
+    text[..offset.min(text.len())]
+        .bytes()
+        .filter(|b| *b == b'\n')
+        .count()
+        + 1
 }
 
 /// "1000 N/mm" -> (1000, "N/mm"); "3" -> (3, "").
@@ -184,7 +216,8 @@ pub fn split_quantity(s: &str) -> Option<(f64, &str)> {
 
 /// "instance.variable" -> (instance, variable).
 pub fn split_port(s: &str) -> Option<(&str, &str)> {
-    s.split_once('.').filter(|(a, b)| !a.is_empty() && !b.is_empty())
+    s.split_once('.')
+        .filter(|(a, b)| !a.is_empty() && !b.is_empty())
 }
 
 #[cfg(test)]
@@ -205,8 +238,15 @@ stop_time = 0.5
     #[test]
     fn parses_and_converts_times() {
         let s = System::parse(Path::new("/x/sys.toml"), GOOD.into()).unwrap();
-        assert_eq!(s.seconds(&s.file.algorithm.macro_step, "macro_step").unwrap(), 1e-5);
-        assert_eq!(s.seconds(&s.file.algorithm.stop_time, "stop_time").unwrap(), 0.5);
+        assert_eq!(
+            s.seconds(&s.file.algorithm.macro_step, "macro_step")
+                .unwrap(),
+            1e-5
+        );
+        assert_eq!(
+            s.seconds(&s.file.algorithm.stop_time, "stop_time").unwrap(),
+            0.5
+        );
         assert_eq!(s.resolve("osc.fmu"), PathBuf::from("/x/osc.fmu"));
         assert_eq!(*s.file.algorithm.extrapolation_order.get_ref(), 1);
     }
@@ -215,9 +255,20 @@ stop_time = 0.5
     fn errors_name_file_line_and_field() {
         let bad = GOOD.replace("\"10 us\"", "\"10 parsecs\"");
         let s = System::parse(Path::new("sys.toml"), bad).unwrap();
-        let e = s.seconds(&s.file.algorithm.macro_step, "algorithm.macro_step").unwrap_err();
-        assert_eq!(e.0, "sys.toml:8: algorithm.macro_step: unknown time unit 'parsecs' (use s, ms, us)");
-        let e = System::parse(Path::new("sys.toml"), GOOD.replace("stop_time", "stop_tim")).err().unwrap();
-        assert!(e.0.starts_with("sys.toml:9: unknown field `stop_tim`"), "{}", e.0);
+        let e = s
+            .seconds(&s.file.algorithm.macro_step, "algorithm.macro_step")
+            .unwrap_err();
+        assert_eq!(
+            e.0,
+            "sys.toml:8: algorithm.macro_step: unknown time unit 'parsecs' (use s, ms, us)"
+        );
+        let e = System::parse(Path::new("sys.toml"), GOOD.replace("stop_time", "stop_tim"))
+            .err()
+            .unwrap();
+        assert!(
+            e.0.starts_with("sys.toml:9: unknown field `stop_tim`"),
+            "{}",
+            e.0
+        );
     }
 }

@@ -7,13 +7,22 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 pub fn workspace_root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).parent().unwrap().to_path_buf()
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
 }
 
 /// Path of a packed FMU; panics with the fix if it is missing.
 pub fn fmu_path(model_identifier: &str) -> PathBuf {
-    let p = workspace_root().join("target/fmu").join(format!("{model_identifier}.fmu"));
-    assert!(p.exists(), "{} is missing: run `cargo xtask fmus` first", p.display());
+    let p = workspace_root()
+        .join("target/fmu")
+        .join(format!("{model_identifier}.fmu"));
+    assert!(
+        p.exists(),
+        "{} is missing: run `cargo xtask fmus` first",
+        p.display()
+    );
     p
 }
 
@@ -40,13 +49,19 @@ impl LogBook {
         self.0.lock().unwrap().last().cloned()
     }
     pub fn contains(&self, needle: &str) -> bool {
-        self.0.lock().unwrap().iter().any(|r| r.message.contains(needle))
+        self.0
+            .lock()
+            .unwrap()
+            .iter()
+            .any(|r| r.message.contains(needle))
     }
 }
 
 /// Instantiates, sets up from t = 0 and enters the step phase.
 pub fn initialized(fmu: &Fmu, name: &str, book: &LogBook, set: impl FnOnce(&Slave)) -> Slave {
-    let s = fmu.instantiate(name, false, book.handler()).expect("instantiate");
+    let s = fmu
+        .instantiate(name, false, book.handler())
+        .expect("instantiate");
     s.setup_experiment(None, 0.0, None).unwrap();
     s.enter_initialization_mode().unwrap();
     set(&s);

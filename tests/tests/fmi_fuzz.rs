@@ -47,26 +47,43 @@ fn value() -> impl Strategy<Value = f64> {
 }
 
 fn vrs() -> impl Strategy<Value = Vec<u32>> {
-    prop::collection::vec(prop_oneof![8 => 0u32..8, 1 => Just(u32::MAX), 1 => 8u32..1000], 0..4)
+    prop::collection::vec(
+        prop_oneof![8 => 0u32..8, 1 => Just(u32::MAX), 1 => 8u32..1000],
+        0..4,
+    )
 }
 
 fn op() -> impl Strategy<Value = Op> {
     prop_oneof![
-        (any::<bool>(), value(), value(), any::<bool>(), value()).prop_map(|(a, b, c, d, e)| Op::Setup(a, b, c, d, e)),
+        (any::<bool>(), value(), value(), any::<bool>(), value())
+            .prop_map(|(a, b, c, d, e)| Op::Setup(a, b, c, d, e)),
         Just(Op::Enter),
         Just(Op::Exit),
         Just(Op::Terminate),
         Just(Op::Reset),
         (vrs(), prop::collection::vec(value(), 4)).prop_map(|(v, x)| Op::SetReal(v, x)),
         vrs().prop_map(Op::GetReal),
-        (vrs(), prop::collection::vec(prop_oneof![Just(0), Just(-1), Just(3), Just(i32::MAX), Just(2)], 4))
+        (
+            vrs(),
+            prop::collection::vec(
+                prop_oneof![Just(0), Just(-1), Just(3), Just(i32::MAX), Just(2)],
+                4
+            )
+        )
             .prop_map(|(v, x)| Op::SetInteger(v, x)),
         vrs().prop_map(Op::GetInteger),
         (vrs(), prop::collection::vec(any::<i32>(), 4)).prop_map(|(v, x)| Op::SetBoolean(v, x)),
         vrs().prop_map(Op::GetString),
         (value(), value()).prop_map(|(t, h)| Op::DoStep(t, h)),
         // Listed twice: steps at the right time are what moves a sequence deep into the state machine.
-        prop_oneof![Just(0.01), Just(1e-3), Just(0.0), Just(-0.1), Just(f64::NAN)].prop_map(Op::DoStepAtNow),
+        prop_oneof![
+            Just(0.01),
+            Just(1e-3),
+            Just(0.0),
+            Just(-0.1),
+            Just(f64::NAN)
+        ]
+        .prop_map(Op::DoStepAtNow),
         prop_oneof![Just(0.01), Just(1e-3)].prop_map(Op::DoStepAtNow),
         (0u32..10, -1i32..5, value()).prop_map(|(v, o, x)| Op::InputDerivative(v, o, x)),
         (0u32..10, -1i32..3).prop_map(|(v, o)| Op::OutputDerivative(v, o)),
@@ -76,7 +93,13 @@ fn op() -> impl Strategy<Value = Op> {
         Just(Op::CancelStep),
         Just(Op::DirectionalDerivative),
         (0u8..6).prop_map(Op::NullArrays),
-        (any::<bool>(), prop::collection::vec(prop_oneof![Just("logAll".to_string()), Just("bogus".to_string())], 0..2))
+        (
+            any::<bool>(),
+            prop::collection::vec(
+                prop_oneof![Just("logAll".to_string()), Just("bogus".to_string())],
+                0..2
+            )
+        )
             .prop_map(|(o, c)| Op::DebugLogging(o, c)),
     ]
 }
@@ -93,7 +116,9 @@ fn apply(s: &Slave, op: &Op, now: &mut f64) -> Fmi2StatusRaw {
     // where the count makes the FMU read through them, which it must refuse.
     unsafe {
         match op {
-            Op::Setup(td, tol, start, sd, stop) => (api.setup_experiment)(c, *td as i32, *tol, *start, *sd as i32, *stop),
+            Op::Setup(td, tol, start, sd, stop) => {
+                (api.setup_experiment)(c, *td as i32, *tol, *start, *sd as i32, *stop)
+            }
             Op::Enter => (api.enter_initialization_mode)(c),
             Op::Exit => (api.exit_initialization_mode)(c),
             Op::Terminate => (api.terminate)(c),
@@ -120,7 +145,9 @@ fn apply(s: &Slave, op: &Op, now: &mut f64) -> Fmi2StatusRaw {
                 st
             }
             Op::InputDerivative(v, o, x) => (api.set_real_input_derivatives)(c, v, 1, o, x),
-            Op::OutputDerivative(v, o) => (api.get_real_output_derivatives)(c, v, 1, o, buf.as_mut_ptr()),
+            Op::OutputDerivative(v, o) => {
+                (api.get_real_output_derivatives)(c, v, 1, o, buf.as_mut_ptr())
+            }
             Op::GetSetState => {
                 let mut st: Fmi2FmuState = null_mut();
                 let a = (api.get_fmu_state)(c, &mut st);
@@ -154,7 +181,9 @@ fn apply(s: &Slave, op: &Op, now: &mut f64) -> Fmi2StatusRaw {
                 (api.get_real_status)(c, *kind, &mut x)
             }
             Op::CancelStep => (api.cancel_step)(c),
-            Op::DirectionalDerivative => (api.get_directional_derivative)(c, null(), 0, null(), 0, null(), null_mut()),
+            Op::DirectionalDerivative => {
+                (api.get_directional_derivative)(c, null(), 0, null(), 0, null(), null_mut())
+            }
             Op::NullArrays(which) => match which {
                 0 => (api.set_real)(c, null(), 2, null()),
                 1 => (api.get_real)(c, null(), 1, null_mut()),
@@ -164,7 +193,10 @@ fn apply(s: &Slave, op: &Op, now: &mut f64) -> Fmi2StatusRaw {
                 _ => (api.set_debug_logging)(c, 1, 3, null()),
             },
             Op::DebugLogging(on, cats) => {
-                let cs: Vec<std::ffi::CString> = cats.iter().map(|s| std::ffi::CString::new(s.as_str()).unwrap()).collect();
+                let cs: Vec<std::ffi::CString> = cats
+                    .iter()
+                    .map(|s| std::ffi::CString::new(s.as_str()).unwrap())
+                    .collect();
                 let ptrs: Vec<*const std::ffi::c_char> = cs.iter().map(|s| s.as_ptr()).collect();
                 (api.set_debug_logging)(c, *on as i32, ptrs.len(), ptrs.as_ptr())
             }
@@ -174,31 +206,45 @@ fn apply(s: &Slave, op: &Op, now: &mut f64) -> Fmi2StatusRaw {
 
 fn fuzz(model: &str, cases: u32, max_len: usize) {
     let fmu = load(model);
-    let mut runner = proptest::test_runner::TestRunner::new(ProptestConfig { cases, ..ProptestConfig::default() });
+    let mut runner = proptest::test_runner::TestRunner::new(ProptestConfig {
+        cases,
+        ..ProptestConfig::default()
+    });
     runner
-        .run(&(any::<bool>(), prop::collection::vec(op(), 1..max_len)), |(initialize, ops)| {
-            let book = LogBook::default();
-            let s = fmu.instantiate("fuzz", false, book.handler()).expect("instantiate");
-            let mut now = 0.0;
-            // Half of the sequences start initialized, so the step phase is explored as deeply as setup.
-            let prefix = [Op::Setup(false, 0.0, 0.0, false, 0.0), Op::Enter, Op::Exit];
-            let prefix: &[Op] = if initialize { &prefix } else { &[] };
-            for op in prefix.iter().chain(&ops) {
-                let before = book.len();
-                let st = apply(&s, op, &mut now);
-                prop_assert!((0..=3).contains(&st), "{op:?} returned illegal status {st}");
-                if st != 0 {
-                    prop_assert!(book.len() > before, "{op:?} returned {st} without a log message");
-                    let r = book.last().unwrap();
-                    prop_assert!(!r.message.trim().is_empty());
+        .run(
+            &(any::<bool>(), prop::collection::vec(op(), 1..max_len)),
+            |(initialize, ops)| {
+                let book = LogBook::default();
+                let s = fmu
+                    .instantiate("fuzz", false, book.handler())
+                    .expect("instantiate");
+                let mut now = 0.0;
+                // Half of the sequences start initialized, so the step phase is explored as deeply as setup.
+                let prefix = [Op::Setup(false, 0.0, 0.0, false, 0.0), Op::Enter, Op::Exit];
+                let prefix: &[Op] = if initialize { &prefix } else { &[] };
+                for op in prefix.iter().chain(&ops) {
+                    let before = book.len();
+                    let st = apply(&s, op, &mut now);
+                    prop_assert!((0..=3).contains(&st), "{op:?} returned illegal status {st}");
+                    if st != 0 {
+                        prop_assert!(
+                            book.len() > before,
+                            "{op:?} returned {st} without a log message"
+                        );
+                        let r = book.last().unwrap();
+                        prop_assert!(!r.message.trim().is_empty());
+                    }
                 }
-            }
-            Ok(())
-        })
+                Ok(())
+            },
+        )
         .unwrap();
     let steps = STEPS_DONE.load(std::sync::atomic::Ordering::Relaxed);
     println!("{model}: {cases} random sequences, {steps} successful steps");
-    assert!(steps > cases as usize / 10, "too few sequences reached the step phase ({steps})");
+    assert!(
+        steps > cases as usize / 10,
+        "too few sequences reached the step phase ({steps})"
+    );
 }
 
 #[test]

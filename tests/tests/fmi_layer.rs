@@ -18,14 +18,20 @@ fn x_of(s: &fmi2::importer::Slave) -> f64 {
 fn constant_force_matches_closed_form() {
     let fmu = load("oscillator");
     let book = LogBook::default();
-    let s = initialized(&fmu, "osc", &book, |s| s.set_real(&[vr::F], &[2.0]).unwrap());
+    let s = initialized(&fmu, "osc", &book, |s| {
+        s.set_real(&[vr::F], &[2.0]).unwrap()
+    });
     let h = 0.01;
     for n in 0..37 {
         s.do_step(n as f64 * h, h).unwrap();
     }
     let t = 0.37;
     let exact = 2.0 / (W * W) * (1.0 - (W * t).cos());
-    assert!((x_of(&s) - exact).abs() < 1e-14, "x = {} vs {exact}", x_of(&s));
+    assert!(
+        (x_of(&s) - exact).abs() < 1e-14,
+        "x = {} vs {exact}",
+        x_of(&s)
+    );
     s.terminate().unwrap();
 }
 
@@ -44,7 +50,11 @@ fn inputs_follow_the_taylor_polynomial_of_input_derivatives() {
     }
     let t = 1.0;
     let exact = a / (W * W) * (t - (W * t).sin() / W);
-    assert!((x_of(&s) - exact).abs() < 1e-13, "ramp: x = {} vs {exact}", x_of(&s));
+    assert!(
+        (x_of(&s) - exact).abs() < 1e-13,
+        "ramp: x = {} vs {exact}",
+        x_of(&s)
+    );
 
     // Without derivatives the same inputs are held constant over each step: a visibly different answer.
     // (Compared at t = 0.75: at whole periods of the oscillator the two happen to coincide.)
@@ -56,7 +66,10 @@ fn inputs_follow_the_taylor_polynomial_of_input_derivatives() {
     }
     let t0 = 0.75;
     let exact0 = a / (W * W) * (t0 - (W * t0).sin() / W);
-    assert!((x_of(&s0) - exact0).abs() > 1e-4, "zero-order hold should differ from the ramp");
+    assert!(
+        (x_of(&s0) - exact0).abs() > 1e-4,
+        "zero-order hold should differ from the ramp"
+    );
 
     // A quadratic F = c t^2 / 2 through the second derivative.
     let s2 = initialized(&fmu, "osc2", &book, |_| {});
@@ -64,28 +77,41 @@ fn inputs_follow_the_taylor_polynomial_of_input_derivatives() {
     for n in 0..20 {
         let t = n as f64 * h;
         s2.set_real(&[vr::F], &[c * t * t / 2.0]).unwrap();
-        s2.set_real_input_derivatives(&[vr::F, vr::F], &[1, 2], &[c * t, c]).unwrap();
+        s2.set_real_input_derivatives(&[vr::F, vr::F], &[1, 2], &[c * t, c])
+            .unwrap();
         s2.do_step(t, h).unwrap();
     }
     // x'' + w^2 x = c t^2/2: x = c/(2 w^2) (t^2 - 2/w^2 (1 - cos w t)).
     let exact2 = c / (2.0 * W * W) * (t * t - 2.0 / (W * W) * (1.0 - (W * t).cos()));
-    assert!((x_of(&s2) - exact2).abs() < 1e-13, "quadratic: {} vs {exact2}", x_of(&s2));
+    assert!(
+        (x_of(&s2) - exact2).abs() < 1e-13,
+        "quadratic: {} vs {exact2}",
+        x_of(&s2)
+    );
 }
 
 #[test]
 fn output_derivatives() {
     let fmu = load("oscillator");
     let book = LogBook::default();
-    let s = initialized(&fmu, "osc", &book, |s| s.set_real(&[vr::X0], &[0.5]).unwrap());
+    let s = initialized(&fmu, "osc", &book, |s| {
+        s.set_real(&[vr::X0], &[0.5]).unwrap()
+    });
     s.do_step(0.0, 0.1).unwrap();
     let mut xv = [0.0; 2];
     s.get_real(&[vr::X, vr::V], &mut xv).unwrap();
     let mut d = [0.0; 2];
-    s.get_real_output_derivatives(&[vr::X, vr::V], &[1, 1], &mut d).unwrap();
+    s.get_real_output_derivatives(&[vr::X, vr::V], &[1, 1], &mut d)
+        .unwrap();
     assert_eq!(d[0], xv[1]);
     assert!((d[1] + W * W * xv[0]).abs() < 1e-12);
     let before = book.len();
-    assert_eq!(s.get_real_output_derivatives(&[vr::X], &[2], &mut d[..1]).unwrap_err().status, Status::Error);
+    assert_eq!(
+        s.get_real_output_derivatives(&[vr::X], &[2], &mut d[..1])
+            .unwrap_err()
+            .status,
+        Status::Error
+    );
     assert!(book.len() > before && book.contains("not provided"));
 }
 
@@ -96,18 +122,30 @@ fn wrong_call_order_is_refused_with_a_reason() {
     let s = fmu.instantiate("osc", false, book.handler()).unwrap();
     assert_eq!(s.do_step(0.0, 0.1).unwrap_err().status, Status::Error);
     assert!(book.contains("fmi2DoStep: not allowed in state 'instantiated'"));
-    assert_eq!(s.exit_initialization_mode().unwrap_err().status, Status::Error);
+    assert_eq!(
+        s.exit_initialization_mode().unwrap_err().status,
+        Status::Error
+    );
     assert_eq!(s.terminate().unwrap_err().status, Status::Error);
     // The instance is still usable after refused calls.
     s.setup_experiment(None, 0.0, Some(1.0)).unwrap();
     s.enter_initialization_mode().unwrap();
-    assert_eq!(s.setup_experiment(None, 0.0, None).unwrap_err().status, Status::Error);
+    assert_eq!(
+        s.setup_experiment(None, 0.0, None).unwrap_err().status,
+        Status::Error
+    );
     s.exit_initialization_mode().unwrap();
     // Parameters are fixed after initialization.
-    assert_eq!(s.set_real(&[vr::K], &[1.0]).unwrap_err().status, Status::Error);
+    assert_eq!(
+        s.set_real(&[vr::K], &[1.0]).unwrap_err().status,
+        Status::Error
+    );
     assert!(book.contains("cannot be set in state 'step complete'"));
     // Outputs are never settable.
-    assert_eq!(s.set_real(&[vr::X], &[1.0]).unwrap_err().status, Status::Error);
+    assert_eq!(
+        s.set_real(&[vr::X], &[1.0]).unwrap_err().status,
+        Status::Error
+    );
     s.do_step(0.0, 0.5).unwrap();
     // Past the stop time.
     assert_eq!(s.do_step(0.5, 0.6).unwrap_err().status, Status::Error);
@@ -125,7 +163,10 @@ fn bad_values_and_references_are_refused_and_change_nothing() {
     let s = initialized(&fmu, "osc", &book, |_| {});
     for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
         let n = book.len();
-        assert_eq!(s.set_real(&[vr::F], &[bad]).unwrap_err().status, Status::Error);
+        assert_eq!(
+            s.set_real(&[vr::F], &[bad]).unwrap_err().status,
+            Status::Error
+        );
         assert!(book.len() > n, "refusal of {bad} must be logged");
     }
     assert!(book.contains("is not finite"));
@@ -156,7 +197,14 @@ fn bad_values_and_references_are_refused_and_change_nothing() {
 fn wrong_guid_is_refused() {
     let fmu = load("oscillator");
     let book = LogBook::default();
-    let r = fmi2::importer::Slave::instantiate(fmu.api.clone(), "{not-the-guid}", "", "x", false, book.handler());
+    let r = fmi2::importer::Slave::instantiate(
+        fmu.api.clone(),
+        "{not-the-guid}",
+        "",
+        "x",
+        false,
+        book.handler(),
+    );
     assert!(r.is_err());
     assert!(book.contains("does not match"));
 }
@@ -167,7 +215,9 @@ fn two_instances_are_independent_and_identical() {
     let book = LogBook::default();
     let a = initialized(&fmu, "a", &book, |s| s.set_real(&[vr::X0], &[0.1]).unwrap());
     let b = initialized(&fmu, "b", &book, |s| s.set_real(&[vr::X0], &[0.1]).unwrap());
-    let c = initialized(&fmu, "c", &book, |s| s.set_real(&[vr::X0], &[-3.0]).unwrap());
+    let c = initialized(&fmu, "c", &book, |s| {
+        s.set_real(&[vr::X0], &[-3.0]).unwrap()
+    });
     let h = 0.013;
     for n in 0..50 {
         let t = n as f64 * h;
@@ -190,7 +240,8 @@ fn run_from(s: &fmi2::importer::Slave, t0: f64, n: usize) -> Vec<u64> {
         .map(|k| {
             let t = t0 + k as f64 * h;
             s.set_real(&[vr::F], &[(3.0 * t).cos()]).unwrap();
-            s.set_real_input_derivatives(&[vr::F], &[1], &[-3.0 * (3.0 * t).sin()]).unwrap();
+            s.set_real_input_derivatives(&[vr::F], &[1], &[-3.0 * (3.0 * t).sin()])
+                .unwrap();
             s.do_step(t, h).unwrap();
             x_of(s).to_bits()
         })
@@ -214,7 +265,11 @@ fn states_round_trip_bit_identically() {
     let other = initialized(&fmu, "other", &book, |_| {});
     let restored = other.deserialize_state(&bytes).unwrap();
     other.set_state(&restored).unwrap();
-    assert_eq!(run_from(&other, 0.1, 20), reference, "serialize/deserialize");
+    assert_eq!(
+        run_from(&other, 0.1, 20),
+        reference,
+        "serialize/deserialize"
+    );
     // Serializing the restored state gives the same bytes.
     assert_eq!(other.serialize_state(&restored).unwrap(), bytes);
 }
@@ -226,13 +281,18 @@ fn bad_state_bytes_are_refused() {
     let s = initialized(&fmu, "s", &book, |_| {});
     let bytes = s.serialize_state(&s.get_state().unwrap()).unwrap();
     for cut in [0, 5, 16, bytes.len() / 2, bytes.len() - 1] {
-        assert!(s.deserialize_state(&bytes[..cut]).is_err(), "truncated at {cut}");
+        assert!(
+            s.deserialize_state(&bytes[..cut]).is_err(),
+            "truncated at {cut}"
+        );
     }
     let mut flipped = bytes.clone();
     let mid = flipped.len() / 2;
     flipped[mid] ^= 0x40;
     assert!(s.deserialize_state(&flipped).is_err());
-    assert!(s.deserialize_state(b"definitely not an FMU state, just some bytes").is_err());
+    assert!(s
+        .deserialize_state(b"definitely not an FMU state, just some bytes")
+        .is_err());
     assert!(book.contains("truncated") && book.contains("not an AirRing FMU state"));
 }
 
@@ -279,7 +339,10 @@ fn debug_logging_categories() {
     let book = LogBook::default();
     let s = initialized(&fmu, "log", &book, |_| {});
     s.do_step(0.0, 0.1).unwrap();
-    assert!(!book.contains("step 0 ->"), "debug logging is off by default");
+    assert!(
+        !book.contains("step 0 ->"),
+        "debug logging is off by default"
+    );
     s.set_debug_logging(true, &["logSteps"]).unwrap();
     s.do_step(0.1, 0.1).unwrap();
     assert!(book.contains("step 0.1 ->"));

@@ -60,8 +60,16 @@ fn unpacked_so(id: &str) -> Unpacked {
 }
 
 fn tool(cmd: &str, args: &[&str], so: &std::path::Path) -> String {
-    let out = Command::new(cmd).args(args).arg(so).output().unwrap_or_else(|e| panic!("{cmd} is needed (binutils): {e}"));
-    assert!(out.status.success(), "{cmd} failed: {}", String::from_utf8_lossy(&out.stderr));
+    let out = Command::new(cmd)
+        .args(args)
+        .arg(so)
+        .output()
+        .unwrap_or_else(|e| panic!("{cmd} is needed (binutils): {e}"));
+    assert!(
+        out.status.success(),
+        "{cmd} failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     String::from_utf8(out.stdout).unwrap()
 }
 
@@ -86,23 +94,40 @@ fn only_fmi2_symbols_are_exported() {
 
 #[test]
 fn depends_only_on_the_c_runtime() {
-    let allowed = ["linux-vdso", "libc.so", "libm.so", "libgcc_s.so", "ld-linux", "libdl.so", "libpthread.so", "librt.so"];
+    let allowed = [
+        "linux-vdso",
+        "libc.so",
+        "libm.so",
+        "libgcc_s.so",
+        "ld-linux",
+        "libdl.so",
+        "libpthread.so",
+        "librt.so",
+    ];
     for id in FMUS {
         let so = unpacked_so(id);
         let ldd = tool("ldd", &[], &so.1);
         for line in ldd.lines().map(str::trim).filter(|l| !l.is_empty()) {
-            assert!(allowed.iter().any(|a| line.contains(a)), "{id}: unexpected dependency '{line}'");
+            assert!(
+                allowed.iter().any(|a| line.contains(a)),
+                "{id}: unexpected dependency '{line}'"
+            );
         }
         let objdump = tool("objdump", &["-T"], &so.1);
         let max_glibc = objdump
             .split_whitespace()
             .filter_map(|w| w.trim_start_matches('(').strip_prefix("GLIBC_"))
             .filter_map(|v| {
-                let mut p = v.split('.').map(|x| x.trim_end_matches(')').parse::<u32>().unwrap_or(0));
+                let mut p = v
+                    .split('.')
+                    .map(|x| x.trim_end_matches(')').parse::<u32>().unwrap_or(0));
                 Some((p.next()?, p.next().unwrap_or(0), p.next().unwrap_or(0)))
             })
             .max()
             .unwrap();
-        println!("{id}.so needs GLIBC {}.{}.{}", max_glibc.0, max_glibc.1, max_glibc.2);
+        println!(
+            "{id}.so needs GLIBC {}.{}.{}",
+            max_glibc.0, max_glibc.1, max_glibc.2
+        );
     }
 }

@@ -12,14 +12,19 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
 fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("xtask lives in the workspace").to_path_buf()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask lives in the workspace")
+        .to_path_buf()
 }
 
 /// Runs a command in the workspace root, echoing it; an error names the failed step.
 fn run(step: &str, cmd: &mut Command) -> Result<(), String> {
     cmd.current_dir(root());
     eprintln!("==> {step}: {:?}", cmd);
-    let status = cmd.status().map_err(|e| format!("{step}: cannot start: {e}"))?;
+    let status = cmd
+        .status()
+        .map_err(|e| format!("{step}: cannot start: {e}"))?;
     if status.success() {
         Ok(())
     } else {
@@ -35,36 +40,88 @@ fn venv_python() -> Result<PathBuf, String> {
     let venv = root().join(".venv");
     let py = venv.join("bin").join("python");
     let ready = py.exists()
-        && Command::new(&py).args(["-c", "import fmpy, pytest, numpy"]).status().map(|s| s.success()).unwrap_or(false);
+        && Command::new(&py)
+            .args(["-c", "import fmpy, pytest, numpy"])
+            .status()
+            .map(|s| s.success())
+            .unwrap_or(false);
     if !ready {
-        run("python venv", Command::new("python3").args(["-m", "venv"]).arg(&venv))?;
+        run(
+            "python venv",
+            Command::new("python3").args(["-m", "venv"]).arg(&venv),
+        )?;
         run(
             "pip install",
-            Command::new(&py).args(["-m", "pip", "install", "--quiet", "--disable-pip-version-check", "-r", "tests/python/requirements.txt"]),
+            Command::new(&py).args([
+                "-m",
+                "pip",
+                "install",
+                "--quiet",
+                "--disable-pip-version-check",
+                "-r",
+                "tests/python/requirements.txt",
+            ]),
         )?;
     }
     Ok(py)
 }
 
 fn test() -> Result<(), String> {
-    run("format check", cargo().args(["fmt", "--all", "--", "--check"]))?;
-    run("clippy", cargo().args(["clippy", "--workspace", "--all-targets", "--", "-D", "warnings"]))?;
+    run(
+        "format check",
+        cargo().args(["fmt", "--all", "--", "--check"]),
+    )?;
+    run(
+        "clippy",
+        cargo().args([
+            "clippy",
+            "--workspace",
+            "--all-targets",
+            "--",
+            "-D",
+            "warnings",
+        ]),
+    )?;
     run(
         "clippy (FMU exports)",
-        cargo().args(["clippy", "--lib", "-p", "fmu-airfilm", "-p", "fmu-rotor", "-p", "fmu-oscillator", "--features"]).arg(pack::features()).args(["--", "-D", "warnings"]),
+        cargo()
+            .args([
+                "clippy",
+                "--lib",
+                "-p",
+                "fmu-airfilm",
+                "-p",
+                "fmu-rotor",
+                "-p",
+                "fmu-oscillator",
+                "--features",
+            ])
+            .arg(pack::features())
+            .args(["--", "-D", "warnings"]),
     )?;
-    run("docs", cargo().args(["doc", "--workspace", "--no-deps"]).env("RUSTDOCFLAGS", "-D warnings"))?;
+    run(
+        "docs",
+        cargo()
+            .args(["doc", "--workspace", "--no-deps"])
+            .env("RUSTDOCFLAGS", "-D warnings"),
+    )?;
     pack::fmus()?;
     pack::descriptions(true)?;
     run("cargo test", cargo().args(["test", "--workspace"]))?;
     let py = venv_python()?;
-    run("pytest", Command::new(py).args(["-m", "pytest", "-q", "tests/python"]))?;
+    run(
+        "pytest",
+        Command::new(py).args(["-m", "pytest", "-q", "tests/python"]),
+    )?;
     Ok(())
 }
 
 fn runup(args: &[String]) -> Result<(), String> {
     pack::fmus()?;
-    run("build master", cargo().args(["build", "--release", "-p", "master"]))?;
+    run(
+        "build master",
+        cargo().args(["build", "--release", "-p", "master"]),
+    )?;
     let mut cmd = Command::new(root().join("target/release/airring"));
     cmd.arg("runup");
     if args.is_empty() {
@@ -82,7 +139,9 @@ fn main() -> ExitCode {
         Some("test") => test(),
         Some("runup") => runup(&args[1..]),
         Some("bench") => run("bench", cargo().args(["bench", "--workspace"])),
-        _ => Err("usage: cargo xtask fmus | descriptions [--check] | test | runup [ARGS] | bench".into()),
+        _ => Err(
+            "usage: cargo xtask fmus | descriptions [--check] | test | runup [ARGS] | bench".into(),
+        ),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

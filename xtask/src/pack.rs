@@ -8,15 +8,34 @@ use std::io::Write;
 fn fmus_table() -> Vec<(&'static str, &'static str, ModelInfo, bool)> {
     vec![
         // (package, lib stem, info, shipped: has a checked-in modelDescriptions/<id>.xml)
-        ("fmu-airfilm", "fmu_airfilm", fmu_airfilm::shell::AirFilmFmu::info(), true),
-        ("fmu-rotor", "fmu_rotor", fmu_rotor::shell::RotorFmu::info(), true),
-        ("fmu-oscillator", "fmu_oscillator", fmu_oscillator::Oscillator::info(), false),
+        (
+            "fmu-airfilm",
+            "fmu_airfilm",
+            fmu_airfilm::shell::AirFilmFmu::info(),
+            true,
+        ),
+        (
+            "fmu-rotor",
+            "fmu_rotor",
+            fmu_rotor::shell::RotorFmu::info(),
+            true,
+        ),
+        (
+            "fmu-oscillator",
+            "fmu_oscillator",
+            fmu_oscillator::Oscillator::info(),
+            false,
+        ),
     ]
 }
 
 /// `--features` for a clippy run over the export code of every FMU crate.
 pub fn features() -> String {
-    fmus_table().iter().map(|(pkg, ..)| format!("{pkg}/fmu")).collect::<Vec<_>>().join(",")
+    fmus_table()
+        .iter()
+        .map(|(pkg, ..)| format!("{pkg}/fmu"))
+        .collect::<Vec<_>>()
+        .join(",")
 }
 
 pub fn fmus() -> Result<(), String> {
@@ -44,11 +63,21 @@ fn pack(info: &ModelInfo, so: &std::path::Path, fmu: &std::path::Path) -> Result
     let binary = std::fs::read(so).map_err(|e| format!("{}: {e}", so.display()))?;
     let file = std::fs::File::create(fmu).map_err(|e| format!("{}: {e}", fmu.display()))?;
     let mut zip = zip::ZipWriter::new(file);
-    let opts = zip::write::SimpleFileOptions::default().compression_method(zip::CompressionMethod::Deflated);
+    let opts = zip::write::SimpleFileOptions::default()
+        .compression_method(zip::CompressionMethod::Deflated);
     let entries: [(String, Vec<u8>); 3] = [
-        ("modelDescription.xml".into(), fmi2::xml::model_description(info).into_bytes()),
-        (format!("binaries/linux64/{}.so", info.model_identifier), binary),
-        ("documentation/index.html".into(), fmi2::xml::documentation(info).into_bytes()),
+        (
+            "modelDescription.xml".into(),
+            fmi2::xml::model_description(info).into_bytes(),
+        ),
+        (
+            format!("binaries/linux64/{}.so", info.model_identifier),
+            binary,
+        ),
+        (
+            "documentation/index.html".into(),
+            fmi2::xml::documentation(info).into_bytes(),
+        ),
     ];
     for (name, data) in entries {
         zip.start_file(name, opts).map_err(|e| e.to_string())?;
@@ -58,7 +87,7 @@ fn pack(info: &ModelInfo, so: &std::path::Path, fmu: &std::path::Path) -> Result
     Ok(())
 }
 
-/// Writes (or with `check`, compares) modelDescriptions/<id>.xml for the shipped FMUs.
+/// Writes (or with `check`, compares) `modelDescriptions/<id>.xml` for the shipped FMUs.
 pub fn descriptions(check: bool) -> Result<(), String> {
     let dir = root().join("modelDescriptions");
     for (_, _, info, shipped) in fmus_table() {
@@ -70,7 +99,10 @@ pub fn descriptions(check: bool) -> Result<(), String> {
         if check {
             let on_disk = std::fs::read_to_string(&path).unwrap_or_default();
             if on_disk != xml {
-                return Err(format!("{} is not what the code generates: run `cargo xtask descriptions`", path.display()));
+                return Err(format!(
+                    "{} is not what the code generates: run `cargo xtask descriptions`",
+                    path.display()
+                ));
             }
         } else {
             std::fs::write(&path, xml).map_err(|e| format!("{}: {e}", path.display()))?;

@@ -11,7 +11,8 @@ static COUNTER: AtomicU64 = AtomicU64::new(0);
 pub fn unpack(fmu: &Path) -> Result<PathBuf, ImportError> {
     let err = |e: &dyn std::fmt::Display| ImportError(format!("{}: {e}", fmu.display()));
     let file = std::fs::File::open(fmu).map_err(|e| err(&e))?;
-    let mut zip = zip::ZipArchive::new(file).map_err(|e| err(&format!("not a valid FMU archive: {e}")))?;
+    let mut zip =
+        zip::ZipArchive::new(file).map_err(|e| err(&format!("not a valid FMU archive: {e}")))?;
     let n = COUNTER.fetch_add(1, Ordering::Relaxed);
     let stem = fmu.file_stem().and_then(|s| s.to_str()).unwrap_or("fmu");
     let dir = std::env::temp_dir().join(format!("airring-{stem}-{}-{n}", std::process::id()));
@@ -20,7 +21,9 @@ pub fn unpack(fmu: &Path) -> Result<PathBuf, ImportError> {
     }
     for i in 0..zip.len() {
         let mut entry = zip.by_index(i).map_err(|e| err(&e))?;
-        let rel = entry.enclosed_name().ok_or_else(|| err(&format!("unsafe path in archive: {}", entry.name())))?;
+        let rel = entry
+            .enclosed_name()
+            .ok_or_else(|| err(&format!("unsafe path in archive: {}", entry.name())))?;
         let out = dir.join(rel);
         if entry.is_dir() {
             std::fs::create_dir_all(&out).map_err(|e| err(&e))?;

@@ -40,7 +40,9 @@ pub struct ModelDescription {
 }
 
 fn flag(node: roxmltree::Node, name: &str) -> bool {
-    node.attribute(name).map(|v| v == "true" || v == "1").unwrap_or(false)
+    node.attribute(name)
+        .map(|v| v == "true" || v == "1")
+        .unwrap_or(false)
 }
 
 fn pos(doc: &roxmltree::Document, node: roxmltree::Node) -> String {
@@ -67,7 +69,10 @@ impl ModelDescription {
         if let Some(mv) = root.children().find(|n| n.has_tag_name("ModelVariables")) {
             for sv in mv.children().filter(|n| n.has_tag_name("ScalarVariable")) {
                 let at = pos(&doc, sv);
-                let name = sv.attribute("name").ok_or(format!("{at}: ScalarVariable without name"))?.to_string();
+                let name = sv
+                    .attribute("name")
+                    .ok_or(format!("{at}: ScalarVariable without name"))?
+                    .to_string();
                 let vr = sv
                     .attribute("valueReference")
                     .and_then(|v| v.parse().ok())
@@ -125,29 +130,48 @@ impl ModelDescription {
                         .map(|d| {
                             (
                                 d.attribute("name").unwrap_or("").to_string(),
-                                d.attribute("factor").and_then(|f| f.parse().ok()).unwrap_or(1.0),
-                                d.attribute("offset").and_then(|f| f.parse().ok()).unwrap_or(0.0),
+                                d.attribute("factor")
+                                    .and_then(|f| f.parse().ok())
+                                    .unwrap_or(1.0),
+                                d.attribute("offset")
+                                    .and_then(|f| f.parse().ok())
+                                    .unwrap_or(0.0),
                             )
                         })
                         .collect(),
                 });
             }
         }
-        let de = root.children().find(|n| n.has_tag_name("DefaultExperiment"));
+        let de = root
+            .children()
+            .find(|n| n.has_tag_name("DefaultExperiment"));
         Ok(ModelDescription {
             fmi_version,
             model_name: root.attribute("modelName").unwrap_or("").to_string(),
-            guid: root.attribute("guid").ok_or("no guid attribute")?.to_string(),
-            model_identifier: cs.attribute("modelIdentifier").ok_or("CoSimulation has no modelIdentifier")?.to_string(),
+            guid: root
+                .attribute("guid")
+                .ok_or("no guid attribute")?
+                .to_string(),
+            model_identifier: cs
+                .attribute("modelIdentifier")
+                .ok_or("CoSimulation has no modelIdentifier")?
+                .to_string(),
             can_interpolate_inputs: flag(cs, "canInterpolateInputs"),
-            max_output_derivative_order: cs.attribute("maxOutputDerivativeOrder").and_then(|v| v.parse().ok()).unwrap_or(0),
+            max_output_derivative_order: cs
+                .attribute("maxOutputDerivativeOrder")
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(0),
             can_get_and_set_fmu_state: flag(cs, "canGetAndSetFMUstate"),
             can_serialize_fmu_state: flag(cs, "canSerializeFMUstate"),
             can_handle_variable_step: flag(cs, "canHandleVariableCommunicationStepSize"),
             variables,
             units,
-            default_step_size: de.and_then(|d| d.attribute("stepSize")).and_then(|v| v.parse().ok()),
-            default_stop_time: de.and_then(|d| d.attribute("stopTime")).and_then(|v| v.parse().ok()),
+            default_step_size: de
+                .and_then(|d| d.attribute("stepSize"))
+                .and_then(|v| v.parse().ok()),
+            default_stop_time: de
+                .and_then(|d| d.attribute("stopTime"))
+                .and_then(|v| v.parse().ok()),
         })
     }
 
@@ -163,6 +187,9 @@ impl ModelDescription {
             return Some((1.0, 0.0));
         }
         let u = self.units.iter().find(|u| u.name == unit)?;
-        u.display_units.iter().find(|d| d.0 == display).map(|(_, f, o)| (*f, *o))
+        u.display_units
+            .iter()
+            .find(|d| d.0 == display)
+            .map(|(_, f, o)| (*f, *o))
     }
 }

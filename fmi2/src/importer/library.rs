@@ -12,7 +12,8 @@ pub struct Api {
     _lib: libloading::Library,
     pub get_types_platform: unsafe extern "C" fn() -> *const std::ffi::c_char,
     pub get_version: unsafe extern "C" fn() -> *const std::ffi::c_char,
-    pub set_debug_logging: unsafe extern "C" fn(Fmi2Component, Fmi2Boolean, usize, *const Fmi2String) -> Fmi2StatusRaw,
+    pub set_debug_logging:
+        unsafe extern "C" fn(Fmi2Component, Fmi2Boolean, usize, *const Fmi2String) -> Fmi2StatusRaw,
     pub instantiate: unsafe extern "C" fn(
         Fmi2String,
         Fmi2Type,
@@ -23,36 +24,80 @@ pub struct Api {
         Fmi2Boolean,
     ) -> Fmi2Component,
     pub free_instance: unsafe extern "C" fn(Fmi2Component),
-    pub setup_experiment: unsafe extern "C" fn(Fmi2Component, Fmi2Boolean, f64, f64, Fmi2Boolean, f64) -> Fmi2StatusRaw,
+    pub setup_experiment: unsafe extern "C" fn(
+        Fmi2Component,
+        Fmi2Boolean,
+        f64,
+        f64,
+        Fmi2Boolean,
+        f64,
+    ) -> Fmi2StatusRaw,
     pub enter_initialization_mode: unsafe extern "C" fn(Fmi2Component) -> Fmi2StatusRaw,
     pub exit_initialization_mode: unsafe extern "C" fn(Fmi2Component) -> Fmi2StatusRaw,
     pub terminate: unsafe extern "C" fn(Fmi2Component) -> Fmi2StatusRaw,
     pub reset: unsafe extern "C" fn(Fmi2Component) -> Fmi2StatusRaw,
     pub get_real: unsafe extern "C" fn(Fmi2Component, VrArr, usize, *mut f64) -> Fmi2StatusRaw,
-    pub get_integer: unsafe extern "C" fn(Fmi2Component, VrArr, usize, *mut Fmi2Integer) -> Fmi2StatusRaw,
-    pub get_boolean: unsafe extern "C" fn(Fmi2Component, VrArr, usize, *mut Fmi2Boolean) -> Fmi2StatusRaw,
-    pub get_string: unsafe extern "C" fn(Fmi2Component, VrArr, usize, *mut Fmi2String) -> Fmi2StatusRaw,
+    pub get_integer:
+        unsafe extern "C" fn(Fmi2Component, VrArr, usize, *mut Fmi2Integer) -> Fmi2StatusRaw,
+    pub get_boolean:
+        unsafe extern "C" fn(Fmi2Component, VrArr, usize, *mut Fmi2Boolean) -> Fmi2StatusRaw,
+    pub get_string:
+        unsafe extern "C" fn(Fmi2Component, VrArr, usize, *mut Fmi2String) -> Fmi2StatusRaw,
     pub set_real: unsafe extern "C" fn(Fmi2Component, VrArr, usize, *const f64) -> Fmi2StatusRaw,
-    pub set_integer: unsafe extern "C" fn(Fmi2Component, VrArr, usize, *const Fmi2Integer) -> Fmi2StatusRaw,
-    pub set_boolean: unsafe extern "C" fn(Fmi2Component, VrArr, usize, *const Fmi2Boolean) -> Fmi2StatusRaw,
-    pub set_string: unsafe extern "C" fn(Fmi2Component, VrArr, usize, *const Fmi2String) -> Fmi2StatusRaw,
+    pub set_integer:
+        unsafe extern "C" fn(Fmi2Component, VrArr, usize, *const Fmi2Integer) -> Fmi2StatusRaw,
+    pub set_boolean:
+        unsafe extern "C" fn(Fmi2Component, VrArr, usize, *const Fmi2Boolean) -> Fmi2StatusRaw,
+    pub set_string:
+        unsafe extern "C" fn(Fmi2Component, VrArr, usize, *const Fmi2String) -> Fmi2StatusRaw,
     pub get_fmu_state: unsafe extern "C" fn(Fmi2Component, *mut Fmi2FmuState) -> Fmi2StatusRaw,
     pub set_fmu_state: unsafe extern "C" fn(Fmi2Component, Fmi2FmuState) -> Fmi2StatusRaw,
     pub free_fmu_state: unsafe extern "C" fn(Fmi2Component, *mut Fmi2FmuState) -> Fmi2StatusRaw,
-    pub serialized_fmu_state_size: unsafe extern "C" fn(Fmi2Component, Fmi2FmuState, *mut usize) -> Fmi2StatusRaw,
-    pub serialize_fmu_state: unsafe extern "C" fn(Fmi2Component, Fmi2FmuState, *mut Fmi2Byte, usize) -> Fmi2StatusRaw,
-    pub de_serialize_fmu_state: unsafe extern "C" fn(Fmi2Component, *const Fmi2Byte, usize, *mut Fmi2FmuState) -> Fmi2StatusRaw,
-    pub get_directional_derivative:
-        unsafe extern "C" fn(Fmi2Component, VrArr, usize, VrArr, usize, *const f64, *mut f64) -> Fmi2StatusRaw,
-    pub set_real_input_derivatives: unsafe extern "C" fn(Fmi2Component, VrArr, usize, *const Fmi2Integer, *const f64) -> Fmi2StatusRaw,
-    pub get_real_output_derivatives: unsafe extern "C" fn(Fmi2Component, VrArr, usize, *const Fmi2Integer, *mut f64) -> Fmi2StatusRaw,
+    pub serialized_fmu_state_size:
+        unsafe extern "C" fn(Fmi2Component, Fmi2FmuState, *mut usize) -> Fmi2StatusRaw,
+    pub serialize_fmu_state:
+        unsafe extern "C" fn(Fmi2Component, Fmi2FmuState, *mut Fmi2Byte, usize) -> Fmi2StatusRaw,
+    pub de_serialize_fmu_state: unsafe extern "C" fn(
+        Fmi2Component,
+        *const Fmi2Byte,
+        usize,
+        *mut Fmi2FmuState,
+    ) -> Fmi2StatusRaw,
+    pub get_directional_derivative: unsafe extern "C" fn(
+        Fmi2Component,
+        VrArr,
+        usize,
+        VrArr,
+        usize,
+        *const f64,
+        *mut f64,
+    ) -> Fmi2StatusRaw,
+    pub set_real_input_derivatives: unsafe extern "C" fn(
+        Fmi2Component,
+        VrArr,
+        usize,
+        *const Fmi2Integer,
+        *const f64,
+    ) -> Fmi2StatusRaw,
+    pub get_real_output_derivatives: unsafe extern "C" fn(
+        Fmi2Component,
+        VrArr,
+        usize,
+        *const Fmi2Integer,
+        *mut f64,
+    ) -> Fmi2StatusRaw,
     pub do_step: unsafe extern "C" fn(Fmi2Component, f64, f64, Fmi2Boolean) -> Fmi2StatusRaw,
     pub cancel_step: unsafe extern "C" fn(Fmi2Component) -> Fmi2StatusRaw,
-    pub get_status: unsafe extern "C" fn(Fmi2Component, Fmi2StatusKind, *mut Fmi2StatusRaw) -> Fmi2StatusRaw,
-    pub get_real_status: unsafe extern "C" fn(Fmi2Component, Fmi2StatusKind, *mut f64) -> Fmi2StatusRaw,
-    pub get_integer_status: unsafe extern "C" fn(Fmi2Component, Fmi2StatusKind, *mut Fmi2Integer) -> Fmi2StatusRaw,
-    pub get_boolean_status: unsafe extern "C" fn(Fmi2Component, Fmi2StatusKind, *mut Fmi2Boolean) -> Fmi2StatusRaw,
-    pub get_string_status: unsafe extern "C" fn(Fmi2Component, Fmi2StatusKind, *mut Fmi2String) -> Fmi2StatusRaw,
+    pub get_status:
+        unsafe extern "C" fn(Fmi2Component, Fmi2StatusKind, *mut Fmi2StatusRaw) -> Fmi2StatusRaw,
+    pub get_real_status:
+        unsafe extern "C" fn(Fmi2Component, Fmi2StatusKind, *mut f64) -> Fmi2StatusRaw,
+    pub get_integer_status:
+        unsafe extern "C" fn(Fmi2Component, Fmi2StatusKind, *mut Fmi2Integer) -> Fmi2StatusRaw,
+    pub get_boolean_status:
+        unsafe extern "C" fn(Fmi2Component, Fmi2StatusKind, *mut Fmi2Boolean) -> Fmi2StatusRaw,
+    pub get_string_status:
+        unsafe extern "C" fn(Fmi2Component, Fmi2StatusKind, *mut Fmi2String) -> Fmi2StatusRaw,
 }
 
 // The function pointers are plain code addresses; the library stays loaded while the Api lives.
@@ -67,8 +112,9 @@ impl Api {
         macro_rules! sym {
             ($name:literal) => {{
                 // SAFETY: the symbol has the FMI 2.0 signature the field declares.
-                let s = unsafe { lib.get(concat!($name, "\0").as_bytes()) }
-                    .map_err(|e| ImportError(format!("{}: missing {}: {e}", path.display(), $name)))?;
+                let s = unsafe { lib.get(concat!($name, "\0").as_bytes()) }.map_err(|e| {
+                    ImportError(format!("{}: missing {}: {e}", path.display(), $name))
+                })?;
                 *s
             }};
         }

@@ -46,12 +46,26 @@ impl Fmu {
             (unpack(path)?, true)
         };
         let md_path = dir.join("modelDescription.xml");
-        let xml = std::fs::read_to_string(&md_path)
-            .map_err(|e| ImportError(format!("{}: cannot read modelDescription.xml: {e}", path.display())))?;
-        let description = ModelDescription::parse(&xml).map_err(|e| ImportError(format!("{}: {e}", md_path.display())))?;
-        let lib = dir.join("binaries").join("linux64").join(format!("{}.so", description.model_identifier));
+        let xml = std::fs::read_to_string(&md_path).map_err(|e| {
+            ImportError(format!(
+                "{}: cannot read modelDescription.xml: {e}",
+                path.display()
+            ))
+        })?;
+        let description = ModelDescription::parse(&xml)
+            .map_err(|e| ImportError(format!("{}: {e}", md_path.display())))?;
+        let lib = dir
+            .join("binaries")
+            .join("linux64")
+            .join(format!("{}.so", description.model_identifier));
         let api = Arc::new(Api::load(&lib)?);
-        Ok(Fmu { path: path.to_path_buf(), dir, owns_dir, description, api })
+        Ok(Fmu {
+            path: path.to_path_buf(),
+            dir,
+            owns_dir,
+            description,
+            api,
+        })
     }
 
     /// `file:///…/resources` URI of the unpacked FMU.
@@ -60,8 +74,20 @@ impl Fmu {
     }
 
     /// Creates an instance (fmi2Instantiate, co-simulation).
-    pub fn instantiate(&self, instance_name: &str, logging_on: bool, log: LogHandler) -> Result<Slave, ImportError> {
-        Slave::instantiate(self.api.clone(), &self.description.guid, &self.resource_uri(), instance_name, logging_on, log)
+    pub fn instantiate(
+        &self,
+        instance_name: &str,
+        logging_on: bool,
+        log: LogHandler,
+    ) -> Result<Slave, ImportError> {
+        Slave::instantiate(
+            self.api.clone(),
+            &self.description.guid,
+            &self.resource_uri(),
+            instance_name,
+            logging_on,
+            log,
+        )
     }
 }
 

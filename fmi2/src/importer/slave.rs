@@ -25,7 +25,14 @@ struct LogEnv {
 }
 
 extern "C" {
-    fn airring_fmi2_logger(env: *mut c_void, instance: Fmi2String, status: Fmi2StatusRaw, category: Fmi2String, format: Fmi2String, ...);
+    fn airring_fmi2_logger(
+        env: *mut c_void,
+        instance: Fmi2String,
+        status: Fmi2StatusRaw,
+        category: Fmi2String,
+        format: Fmi2String,
+        ...
+    );
     fn calloc(n: usize, size: usize) -> *mut c_void;
     fn free(p: *mut c_void);
 }
@@ -39,7 +46,13 @@ unsafe fn lossy(s: Fmi2String) -> String {
     }
 }
 
-unsafe extern "C" fn sink(env: *mut c_void, instance: Fmi2String, status: Fmi2StatusRaw, category: Fmi2String, message: Fmi2String) {
+unsafe extern "C" fn sink(
+    env: *mut c_void,
+    instance: Fmi2String,
+    status: Fmi2StatusRaw,
+    category: Fmi2String,
+    message: Fmi2String,
+) {
     // A panicking handler must not unwind into the FMU's C frames.
     let _ = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
         // SAFETY: env is the LogEnv we passed in fmi2Instantiate; it outlives the instance.
@@ -84,7 +97,10 @@ fn check(function: &'static str, raw: Fmi2StatusRaw) -> Result<(), CallError> {
     match Status::from_raw(raw) {
         Some(Status::Ok | Status::Warning) => Ok(()),
         Some(status) => Err(CallError { function, status }),
-        None => Err(CallError { function, status: Status::Fatal }),
+        None => Err(CallError {
+            function,
+            status: Status::Fatal,
+        }),
     }
 }
 
@@ -146,17 +162,39 @@ impl Slave {
             step_finished: None,
             component_environment: &*env as *const LogEnv as *mut c_void,
         });
-        let cname = CString::new(name).map_err(|_| ImportError("instance name contains NUL".into()))?;
+        let cname =
+            CString::new(name).map_err(|_| ImportError("instance name contains NUL".into()))?;
         let cguid = CString::new(guid).map_err(|_| ImportError("GUID contains NUL".into()))?;
-        let cres = CString::new(resource_uri).map_err(|_| ImportError("resource URI contains NUL".into()))?;
+        let cres = CString::new(resource_uri)
+            .map_err(|_| ImportError("resource URI contains NUL".into()))?;
         // SAFETY: valid strings and callbacks that outlive the instance (owned by Inner).
         let c = unsafe {
-            (api.instantiate)(cname.as_ptr(), FMI2_CO_SIMULATION, cguid.as_ptr(), cres.as_ptr(), &*callbacks, FMI2_FALSE, logging_on as Fmi2Boolean)
+            (api.instantiate)(
+                cname.as_ptr(),
+                FMI2_CO_SIMULATION,
+                cguid.as_ptr(),
+                cres.as_ptr(),
+                &*callbacks,
+                FMI2_FALSE,
+                logging_on as Fmi2Boolean,
+            )
         };
         if c.is_null() {
-            return Err(ImportError(format!("fmi2Instantiate of '{name}' failed (see the FMU's log)")));
+            return Err(ImportError(format!(
+                "fmi2Instantiate of '{name}' failed (see the FMU's log)"
+            )));
         }
-        Ok(Slave { inner: Arc::new(Inner { api, c, _env: env, _callbacks: callbacks, name: name.to_string() }) })
+        // Arc (not Rc) so that Slave and FmuState can be Send; the instance is still used by one thread
+        // at a time (Slave is not Sync), as FMI 2.0 requires.
+        #[allow(clippy::arc_with_non_send_sync)]
+        let inner = Arc::new(Inner {
+            api,
+            c,
+            _env: env,
+            _callbacks: callbacks,
+            name: name.to_string(),
+        });
+        Ok(Slave { inner })
     }
 
     pub fn name(&self) -> &str {
@@ -177,13 +215,23 @@ impl Slave {
     }
 
     pub fn set_debug_logging(&self, on: bool, categories: &[&str]) -> Result<(), CallError> {
-        let owned: Vec<CString> = categories.iter().map(|s| crate::logging::to_cstring(s)).collect();
+        let owned: Vec<CString> = categories
+            .iter()
+            .map(|s| crate::logging::to_cstring(s))
+            .collect();
         let ptrs: Vec<*const c_char> = owned.iter().map(|s| s.as_ptr()).collect();
         // SAFETY: valid array of C strings.
-        check("fmi2SetDebugLogging", unsafe { (self.api().set_debug_logging)(self.c(), on as i32, ptrs.len(), ptrs.as_ptr()) })
+        check("fmi2SetDebugLogging", unsafe {
+            (self.api().set_debug_logging)(self.c(), on as i32, ptrs.len(), ptrs.as_ptr())
+        })
     }
 
-    pub fn setup_experiment(&self, tolerance: Option<f64>, start: f64, stop: Option<f64>) -> Result<(), CallError> {
+    pub fn setup_experiment(
+        &self,
+        tolerance: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Result<(), CallError> {
         // SAFETY: plain values.
         let s = unsafe {
             (self.api().setup_experiment)(
@@ -200,12 +248,16 @@ impl Slave {
 
     pub fn enter_initialization_mode(&self) -> Result<(), CallError> {
         // SAFETY: valid component.
-        check("fmi2EnterInitializationMode", unsafe { (self.api().enter_initialization_mode)(self.c()) })
+        check("fmi2EnterInitializationMode", unsafe {
+            (self.api().enter_initialization_mode)(self.c())
+        })
     }
 
     pub fn exit_initialization_mode(&self) -> Result<(), CallError> {
         // SAFETY: valid component.
-        check("fmi2ExitInitializationMode", unsafe { (self.api().exit_initialization_mode)(self.c()) })
+        check("fmi2ExitInitializationMode", unsafe {
+            (self.api().exit_initialization_mode)(self.c())
+        })
     }
 
     pub fn terminate(&self) -> Result<(), CallError> {
@@ -221,98 +273,165 @@ impl Slave {
     pub fn set_real(&self, vrs: &[u32], values: &[f64]) -> Result<(), CallError> {
         assert_eq!(vrs.len(), values.len(), "one value per value reference");
         // SAFETY: arrays of equal length.
-        check("fmi2SetReal", unsafe { (self.api().set_real)(self.c(), vrs.as_ptr(), vrs.len(), values.as_ptr()) })
+        check("fmi2SetReal", unsafe {
+            (self.api().set_real)(self.c(), vrs.as_ptr(), vrs.len(), values.as_ptr())
+        })
     }
 
     pub fn get_real(&self, vrs: &[u32], values: &mut [f64]) -> Result<(), CallError> {
         assert_eq!(vrs.len(), values.len(), "one value per value reference");
         // SAFETY: arrays of equal length.
-        check("fmi2GetReal", unsafe { (self.api().get_real)(self.c(), vrs.as_ptr(), vrs.len(), values.as_mut_ptr()) })
+        check("fmi2GetReal", unsafe {
+            (self.api().get_real)(self.c(), vrs.as_ptr(), vrs.len(), values.as_mut_ptr())
+        })
     }
 
     pub fn set_integer(&self, vrs: &[u32], values: &[i32]) -> Result<(), CallError> {
         assert_eq!(vrs.len(), values.len(), "one value per value reference");
         // SAFETY: arrays of equal length.
-        check("fmi2SetInteger", unsafe { (self.api().set_integer)(self.c(), vrs.as_ptr(), vrs.len(), values.as_ptr()) })
+        check("fmi2SetInteger", unsafe {
+            (self.api().set_integer)(self.c(), vrs.as_ptr(), vrs.len(), values.as_ptr())
+        })
     }
 
     pub fn get_integer(&self, vrs: &[u32], values: &mut [i32]) -> Result<(), CallError> {
         assert_eq!(vrs.len(), values.len(), "one value per value reference");
         // SAFETY: arrays of equal length.
-        check("fmi2GetInteger", unsafe { (self.api().get_integer)(self.c(), vrs.as_ptr(), vrs.len(), values.as_mut_ptr()) })
+        check("fmi2GetInteger", unsafe {
+            (self.api().get_integer)(self.c(), vrs.as_ptr(), vrs.len(), values.as_mut_ptr())
+        })
     }
 
     pub fn set_boolean(&self, vrs: &[u32], values: &[bool]) -> Result<(), CallError> {
         let v: Vec<Fmi2Boolean> = values.iter().map(|b| *b as Fmi2Boolean).collect();
         assert_eq!(vrs.len(), v.len(), "one value per value reference");
         // SAFETY: arrays of equal length.
-        check("fmi2SetBoolean", unsafe { (self.api().set_boolean)(self.c(), vrs.as_ptr(), vrs.len(), v.as_ptr()) })
+        check("fmi2SetBoolean", unsafe {
+            (self.api().set_boolean)(self.c(), vrs.as_ptr(), vrs.len(), v.as_ptr())
+        })
     }
 
     pub fn get_boolean(&self, vrs: &[u32], values: &mut [bool]) -> Result<(), CallError> {
         let mut v = vec![0; vrs.len()];
         // SAFETY: arrays of equal length.
-        check("fmi2GetBoolean", unsafe { (self.api().get_boolean)(self.c(), vrs.as_ptr(), vrs.len(), v.as_mut_ptr()) })?;
+        check("fmi2GetBoolean", unsafe {
+            (self.api().get_boolean)(self.c(), vrs.as_ptr(), vrs.len(), v.as_mut_ptr())
+        })?;
         for (o, x) in values.iter_mut().zip(v) {
             *o = x != 0;
         }
         Ok(())
     }
 
-    pub fn set_real_input_derivatives(&self, vrs: &[u32], orders: &[i32], values: &[f64]) -> Result<(), CallError> {
-        assert!(vrs.len() == orders.len() && vrs.len() == values.len(), "equal lengths");
+    pub fn set_real_input_derivatives(
+        &self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &[f64],
+    ) -> Result<(), CallError> {
+        assert!(
+            vrs.len() == orders.len() && vrs.len() == values.len(),
+            "equal lengths"
+        );
         // SAFETY: arrays of equal length.
-        let s = unsafe { (self.api().set_real_input_derivatives)(self.c(), vrs.as_ptr(), vrs.len(), orders.as_ptr(), values.as_ptr()) };
+        let s = unsafe {
+            (self.api().set_real_input_derivatives)(
+                self.c(),
+                vrs.as_ptr(),
+                vrs.len(),
+                orders.as_ptr(),
+                values.as_ptr(),
+            )
+        };
         check("fmi2SetRealInputDerivatives", s)
     }
 
-    pub fn get_real_output_derivatives(&self, vrs: &[u32], orders: &[i32], values: &mut [f64]) -> Result<(), CallError> {
-        assert!(vrs.len() == orders.len() && vrs.len() == values.len(), "equal lengths");
+    pub fn get_real_output_derivatives(
+        &self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &mut [f64],
+    ) -> Result<(), CallError> {
+        assert!(
+            vrs.len() == orders.len() && vrs.len() == values.len(),
+            "equal lengths"
+        );
         // SAFETY: arrays of equal length.
-        let s = unsafe { (self.api().get_real_output_derivatives)(self.c(), vrs.as_ptr(), vrs.len(), orders.as_ptr(), values.as_mut_ptr()) };
+        let s = unsafe {
+            (self.api().get_real_output_derivatives)(
+                self.c(),
+                vrs.as_ptr(),
+                vrs.len(),
+                orders.as_ptr(),
+                values.as_mut_ptr(),
+            )
+        };
         check("fmi2GetRealOutputDerivatives", s)
     }
 
     pub fn do_step(&self, t: f64, h: f64) -> Result<(), CallError> {
         // SAFETY: plain values.
-        check("fmi2DoStep", unsafe { (self.api().do_step)(self.c(), t, h, FMI2_TRUE) })
+        check("fmi2DoStep", unsafe {
+            (self.api().do_step)(self.c(), t, h, FMI2_TRUE)
+        })
     }
 
     /// fmi2LastSuccessfulTime (after a discarded step).
     pub fn last_successful_time(&self) -> Result<f64, CallError> {
         let mut t = f64::NAN;
         // SAFETY: one f64 out.
-        check("fmi2GetRealStatus", unsafe { (self.api().get_real_status)(self.c(), FMI2_LAST_SUCCESSFUL_TIME, &mut t) })?;
+        check("fmi2GetRealStatus", unsafe {
+            (self.api().get_real_status)(self.c(), FMI2_LAST_SUCCESSFUL_TIME, &mut t)
+        })?;
         Ok(t)
     }
 
     pub fn get_state(&self) -> Result<FmuState, CallError> {
         let mut ptr: Fmi2FmuState = std::ptr::null_mut();
         // SAFETY: out pointer to a null state.
-        check("fmi2GetFMUstate", unsafe { (self.api().get_fmu_state)(self.c(), &mut ptr) })?;
-        Ok(FmuState { inner: self.inner.clone(), ptr })
+        check("fmi2GetFMUstate", unsafe {
+            (self.api().get_fmu_state)(self.c(), &mut ptr)
+        })?;
+        Ok(FmuState {
+            inner: self.inner.clone(),
+            ptr,
+        })
     }
 
     /// fmi2GetFMUstate into an existing state (the FMU may reuse its memory).
     pub fn update_state(&self, state: &mut FmuState) -> Result<(), CallError> {
-        assert!(Arc::ptr_eq(&state.inner, &self.inner), "a state of another instance");
+        assert!(
+            Arc::ptr_eq(&state.inner, &self.inner),
+            "a state of another instance"
+        );
         // SAFETY: a state of this instance, overwritten in place.
-        check("fmi2GetFMUstate", unsafe { (self.api().get_fmu_state)(self.c(), &mut state.ptr) })
+        check("fmi2GetFMUstate", unsafe {
+            (self.api().get_fmu_state)(self.c(), &mut state.ptr)
+        })
     }
 
     pub fn set_state(&self, state: &FmuState) -> Result<(), CallError> {
         // SAFETY: a state of this instance.
-        check("fmi2SetFMUstate", unsafe { (self.api().set_fmu_state)(self.c(), state.ptr) })
+        check("fmi2SetFMUstate", unsafe {
+            (self.api().set_fmu_state)(self.c(), state.ptr)
+        })
     }
 
     pub fn serialize_state(&self, state: &FmuState) -> Result<Vec<u8>, CallError> {
         let mut n = 0usize;
         // SAFETY: a state of this instance; out pointer.
-        check("fmi2SerializedFMUstateSize", unsafe { (self.api().serialized_fmu_state_size)(self.c(), state.ptr, &mut n) })?;
+        check("fmi2SerializedFMUstateSize", unsafe {
+            (self.api().serialized_fmu_state_size)(self.c(), state.ptr, &mut n)
+        })?;
         let mut bytes = vec![0u8; n];
         // SAFETY: buffer of n bytes.
         check("fmi2SerializeFMUstate", unsafe {
-            (self.api().serialize_fmu_state)(self.c(), state.ptr, bytes.as_mut_ptr() as *mut Fmi2Byte, n)
+            (self.api().serialize_fmu_state)(
+                self.c(),
+                state.ptr,
+                bytes.as_mut_ptr() as *mut Fmi2Byte,
+                n,
+            )
         })?;
         Ok(bytes)
     }
@@ -321,8 +440,16 @@ impl Slave {
         let mut ptr: Fmi2FmuState = std::ptr::null_mut();
         // SAFETY: buffer of bytes.len() bytes; out pointer.
         check("fmi2DeSerializeFMUstate", unsafe {
-            (self.api().de_serialize_fmu_state)(self.c(), bytes.as_ptr() as *const Fmi2Byte, bytes.len(), &mut ptr)
+            (self.api().de_serialize_fmu_state)(
+                self.c(),
+                bytes.as_ptr() as *const Fmi2Byte,
+                bytes.len(),
+                &mut ptr,
+            )
         })?;
-        Ok(FmuState { inner: self.inner.clone(), ptr })
+        Ok(FmuState {
+            inner: self.inner.clone(),
+            ptr,
+        })
     }
 }

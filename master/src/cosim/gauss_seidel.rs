@@ -114,7 +114,11 @@ pub struct StepError {
 
 impl std::fmt::Display for StepError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}: {} at t = {} s (see its log above)", self.subsystem, self.error, self.t_s)
+        write!(
+            f,
+            "{}: {} at t = {} s (see its log above)",
+            self.subsystem, self.error, self.t_s
+        )
     }
 }
 
@@ -167,7 +171,9 @@ impl CoSim {
             Scheme::GaussSeidel => {
                 let mut groups: Vec<Vec<usize>> = vec![];
                 for &i in &order {
-                    let feeds_from_last = groups.last().is_some_and(|g| subs[i].inputs.iter().any(|l| g.contains(&l.from)));
+                    let feeds_from_last = groups
+                        .last()
+                        .is_some_and(|g| subs[i].inputs.iter().any(|l| g.contains(&l.from)));
                     match groups.last_mut() {
                         Some(g) if !feeds_from_last => g.push(i),
                         _ => groups.push(vec![i]),
@@ -191,7 +197,11 @@ impl CoSim {
             saved: None,
             _fmus: fmus,
         };
-        let fail = |s: &Subsystem, error| StepError { subsystem: s.name.clone(), error, t_s: 0.0 };
+        let fail = |s: &Subsystem, error| StepError {
+            subsystem: s.name.clone(),
+            error,
+            t_s: 0.0,
+        };
         for _pass in 0..2 {
             for &i in &order {
                 let (vrs, vals): (Vec<u32>, Vec<f64>) = c.subs[i]
@@ -200,12 +210,18 @@ impl CoSim {
                     .map(|l| {
                         let src = &c.subs[l.from];
                         let mut v = [0.0];
-                        src.slave.get_real(&[src.coupling_vrs[l.from_slot]], &mut v).map(|_| (l.to_vr, v[0])).map_err(|e| fail(src, e))
+                        src.slave
+                            .get_real(&[src.coupling_vrs[l.from_slot]], &mut v)
+                            .map(|_| (l.to_vr, v[0]))
+                            .map_err(|e| fail(src, e))
                     })
                     .collect::<Result<Vec<_>, _>>()?
                     .into_iter()
                     .unzip();
-                c.subs[i].slave.set_real(&vrs, &vals).map_err(|e| fail(&c.subs[i], e))?;
+                c.subs[i]
+                    .slave
+                    .set_real(&vrs, &vals)
+                    .map_err(|e| fail(&c.subs[i], e))?;
             }
         }
         for s in &mut c.subs {
@@ -234,7 +250,11 @@ impl CoSim {
             let hist = &self.subs[l.from].history;
             let n = hist.len();
             // The point at T_N: the newest one, or the one before if the source already stepped.
-            let (anchor_idx, order) = if stepped[l.from] { (n - 2, interp) } else { (n - 1, extrap) };
+            let (anchor_idx, order) = if stepped[l.from] {
+                (n - 2, interp)
+            } else {
+                (n - 1, extrap)
+            };
             let used = (order + 1).min(n);
             let mut pts = [(0.0, 0.0); 3];
             for (k, p) in hist.iter().skip(n - used).enumerate() {
@@ -260,7 +280,8 @@ impl CoSim {
             if der_vrs.is_empty() {
                 Ok(())
             } else {
-                s.slave.set_real_input_derivatives(&der_vrs, &orders, &der_values)
+                s.slave
+                    .set_real_input_derivatives(&der_vrs, &orders, &der_values)
             }
         });
         s.vrs = scratch;
@@ -279,32 +300,59 @@ impl CoSim {
         for g in 0..self.groups.len() {
             let group = self.groups[g].clone();
             for &i in &group {
-                self.set_inputs(i, t, h, &stepped).map_err(|error| StepError { subsystem: self.subs[i].name.clone(), error, t_s: t })?;
+                self.set_inputs(i, t, h, &stepped)
+                    .map_err(|error| StepError {
+                        subsystem: self.subs[i].name.clone(),
+                        error,
+                        t_s: t,
+                    })?;
             }
-            let mut members: Vec<&mut Subsystem> =
-                self.subs.iter_mut().enumerate().filter(|(i, _)| group.contains(i)).map(|(_, s)| s).collect();
-            let results: Vec<(String, Result<(), CallError>)> = if self.parallel && members.len() > 1 {
-                let mut results: Vec<Option<Result<(), CallError>>> = (0..members.len()).map(|_| None).collect();
-                rayon::scope(|scope| {
-                    let mut slots = results.iter_mut();
-                    let mut iter = members.iter_mut();
-                    let first = iter.next().map(|m| (m, slots.next().unwrap()));
-                    for (m, slot) in iter.zip(slots) {
-                        scope.spawn(move |_| *slot = Some(m.do_step(t, h)));
-                    }
-                    if let Some((m, slot)) = first {
-                        *slot = Some(m.do_step(t, h));
-                    }
-                });
-                members.iter().map(|m| m.name.clone()).zip(results.into_iter().map(|r| r.expect("every task ran"))).collect()
-            } else {
-                members.iter_mut().map(|m| (m.name.clone(), m.do_step(t, h))).collect()
-            };
+            let mut members: Vec<&mut Subsystem> = self
+                .subs
+                .iter_mut()
+                .enumerate()
+                .filter(|(i, _)| group.contains(i))
+                .map(|(_, s)| s)
+                .collect();
+            let results: Vec<(String, Result<(), CallError>)> =
+                if self.parallel && members.len() > 1 {
+                    let mut results: Vec<Option<Result<(), CallError>>> =
+                        (0..members.len()).map(|_| None).collect();
+                    rayon::scope(|scope| {
+                        let mut slots = results.iter_mut();
+                        let mut iter = members.iter_mut();
+                        let first = iter.next().map(|m| (m, slots.next().unwrap()));
+                        for (m, slot) in iter.zip(slots) {
+                            scope.spawn(move |_| *slot = Some(m.do_step(t, h)));
+                        }
+                        if let Some((m, slot)) = first {
+                            *slot = Some(m.do_step(t, h));
+                        }
+                    });
+                    members
+                        .iter()
+                        .map(|m| m.name.clone())
+                        .zip(results.into_iter().map(|r| r.expect("every task ran")))
+                        .collect()
+                } else {
+                    members
+                        .iter_mut()
+                        .map(|m| (m.name.clone(), m.do_step(t, h)))
+                        .collect()
+                };
             for (name, r) in results {
-                r.map_err(|error| StepError { subsystem: name, error, t_s: t })?;
+                r.map_err(|error| StepError {
+                    subsystem: name,
+                    error,
+                    t_s: t,
+                })?;
             }
             for &i in &group {
-                let v = self.subs[i].read_coupling().map_err(|error| StepError { subsystem: self.subs[i].name.clone(), error, t_s: t + h })?;
+                let v = self.subs[i].read_coupling().map_err(|error| StepError {
+                    subsystem: self.subs[i].name.clone(),
+                    error,
+                    t_s: t + h,
+                })?;
                 self.subs[i].push_history(t + h, v);
                 stepped[i] = true;
             }
@@ -319,7 +367,11 @@ impl CoSim {
                 Some(st) => s.slave.update_state(st),
                 None => s.slave.get_state().map(|st| s.state = Some(st)),
             };
-            r.map_err(|error| StepError { subsystem: s.name.clone(), error, t_s: self.t })?;
+            r.map_err(|error| StepError {
+                subsystem: s.name.clone(),
+                error,
+                t_s: self.t,
+            })?;
         }
         self.saved = Some(Saved {
             t: self.t,
@@ -330,15 +382,25 @@ impl CoSim {
     }
 
     fn restore_saved(&mut self) -> Result<Vec<f64>, StepError> {
-        let saved = self.saved.take().expect("a saved point exists when rollback is on");
+        let saved = self
+            .saved
+            .take()
+            .expect("a saved point exists when rollback is on");
         for (s, h) in self.subs.iter_mut().zip(&saved.history) {
             let st = s.state.as_ref().expect("saved before the step");
-            s.slave.set_state(st).map_err(|error| StepError { subsystem: s.name.clone(), error, t_s: saved.t })?;
+            s.slave.set_state(st).map_err(|error| StepError {
+                subsystem: s.name.clone(),
+                error,
+                t_s: saved.t,
+            })?;
             s.history = h.clone();
         }
         self.t = saved.t;
         let replay = saved.replay.clone();
-        self.saved = Some(Saved { replay: Vec::with_capacity(self.save_every), ..saved });
+        self.saved = Some(Saved {
+            replay: Vec::with_capacity(self.save_every),
+            ..saved
+        });
         Ok(replay)
     }
 
@@ -347,14 +409,22 @@ impl CoSim {
     /// restores that point, replays the steps since (the FMUs are deterministic, so the replay is
     /// exact), and retries the failed interval in two halves, recursively.
     pub fn step(&mut self, h: f64) -> Result<(), StepError> {
-        if self.rollback && self.saved.as_ref().is_none_or(|s| s.replay.len() >= self.save_every) {
+        if self.rollback
+            && self
+                .saved
+                .as_ref()
+                .is_none_or(|s| s.replay.len() >= self.save_every)
+        {
             self.save_states()?;
         }
         match self.try_step(h) {
             Ok(()) => {}
             Err(e) if self.rollback && e.error.status == Status::Discard => {
                 let t_fail = self.t;
-                eprintln!("{e}: rolling back and retrying [{t_fail} s, {} s] in halves", t_fail + h);
+                eprintln!(
+                    "{e}: rolling back and retrying [{t_fail} s, {} s] in halves",
+                    t_fail + h
+                );
                 let replay = self.restore_saved()?;
                 for dt in replay {
                     self.try_step(dt)?;
@@ -409,7 +479,11 @@ impl CoSim {
         self.subs
             .iter()
             .map(|s| {
-                let err = |error| StepError { subsystem: s.name.clone(), error, t_s: self.t };
+                let err = |error| StepError {
+                    subsystem: s.name.clone(),
+                    error,
+                    t_s: self.t,
+                };
                 let st = s.slave.get_state().map_err(err)?;
                 s.slave.serialize_state(&st).map_err(err)
             })
@@ -417,9 +491,18 @@ impl CoSim {
     }
 
     /// Restores serialized FMU states (from `serialize_states`) and the master's histories.
-    pub fn restore_serialized(&mut self, t: f64, states: &[Vec<u8>], history: Vec<VecDeque<(f64, Vec<f64>)>>) -> Result<(), StepError> {
+    pub fn restore_serialized(
+        &mut self,
+        t: f64,
+        states: &[Vec<u8>],
+        history: Vec<VecDeque<(f64, Vec<f64>)>>,
+    ) -> Result<(), StepError> {
         for ((s, bytes), h) in self.subs.iter_mut().zip(states).zip(history) {
-            let err = |error| StepError { subsystem: s.name.clone(), error, t_s: t };
+            let err = |error| StepError {
+                subsystem: s.name.clone(),
+                error,
+                t_s: t,
+            };
             let st = s.slave.deserialize_state(bytes).map_err(err)?;
             s.slave.set_state(&st).map_err(err)?;
             s.history = h;
@@ -432,7 +515,11 @@ impl CoSim {
     pub fn unconnected_inputs(&self, mds: &[&ModelDescription]) -> Vec<String> {
         let mut out = vec![];
         for (s, md) in self.subs.iter().zip(mds) {
-            for v in md.variables.iter().filter(|v| v.causality == Causality::Input) {
+            for v in md
+                .variables
+                .iter()
+                .filter(|v| v.causality == Causality::Input)
+            {
                 if !s.inputs.iter().any(|l| l.to_vr == v.vr) {
                     out.push(format!("{}.{}", s.name, v.name));
                 }

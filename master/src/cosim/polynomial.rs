@@ -56,7 +56,10 @@ mod tests {
         let mut errs = vec![];
         for &h in &[0.1, 0.05] {
             let t = 1.0;
-            let pts: Vec<(f64, f64)> = (0..3).rev().map(|i| (t - i as f64 * h, f(t - i as f64 * h))).collect();
+            let pts: Vec<(f64, f64)> = (0..3)
+                .rev()
+                .map(|i| (t - i as f64 * h, f(t - i as f64 * h)))
+                .collect();
             let d = taylor_derivatives(&pts, t);
             errs.push((taylor_value(f(t), d, h) - f(t + h)).abs());
         }

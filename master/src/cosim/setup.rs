@@ -21,23 +21,55 @@ pub struct Built {
 pub fn stderr_logger() -> LogHandler {
     Arc::new(|r: &LogRecord| {
         if r.status >= Status::Warning || std::env::var_os("AIRRING_LOG_DEBUG").is_some() {
-            eprintln!("[{}] {} {}: {}", r.instance, r.status.name(), r.category, r.message);
+            eprintln!(
+                "[{}] {} {}: {}",
+                r.instance,
+                r.status.name(),
+                r.category,
+                r.message
+            );
         }
     })
 }
 
-fn set_parameter(sys: &System, fmu: &Fmu, inst: &str, sub: &fmi2::importer::Slave, name: &str, value: &toml::Spanned<toml::Value>) -> Result<(), SystemError> {
+fn set_parameter(
+    sys: &System,
+    fmu: &Fmu,
+    inst: &str,
+    sub: &fmi2::importer::Slave,
+    name: &str,
+    value: &toml::Spanned<toml::Value>,
+) -> Result<(), SystemError> {
     let field = format!("fmu '{inst}' parameters.{name}");
     let md = &fmu.description;
-    let var = md.variable(name).ok_or_else(|| sys.error_at(value, &field, format!("'{}' has no variable '{name}'", md.model_name)))?;
+    let var = md.variable(name).ok_or_else(|| {
+        sys.error_at(
+            value,
+            &field,
+            format!("'{}' has no variable '{name}'", md.model_name),
+        )
+    })?;
     if !matches!(var.causality, Causality::Parameter | Causality::Input) {
-        return Err(sys.error_at(value, &field, format!("'{name}' is a {} and cannot be set", var.causality.as_str())));
+        return Err(sys.error_at(
+            value,
+            &field,
+            format!("'{name}' is a {} and cannot be set", var.causality.as_str()),
+        ));
     }
-    let err = |e: fmi2::importer::CallError| sys.error_at(value, &field, format!("the FMU refused the value ({e}; see its log above)"));
+    let err = |e: fmi2::importer::CallError| {
+        sys.error_at(
+            value,
+            &field,
+            format!("the FMU refused the value ({e}; see its log above)"),
+        )
+    };
     match (var.var_type, value.get_ref()) {
-        (VarType::Boolean, toml::Value::Boolean(b)) => sub.set_boolean(&[var.vr], &[*b]).map_err(err),
+        (VarType::Boolean, toml::Value::Boolean(b)) => {
+            sub.set_boolean(&[var.vr], &[*b]).map_err(err)
+        }
         (VarType::Integer, toml::Value::Integer(i)) => {
-            let i = i32::try_from(*i).map_err(|_| sys.error_at(value, &field, "integer out of range"))?;
+            let i = i32::try_from(*i)
+                .map_err(|_| sys.error_at(value, &field, "integer out of range"))?;
             sub.set_integer(&[var.vr], &[i]).map_err(err)
         }
         (VarType::Real, v) => {
@@ -45,25 +77,46 @@ fn set_parameter(sys: &System, fmu: &Fmu, inst: &str, sub: &fmi2::importer::Slav
                 toml::Value::Float(x) => *x,
                 toml::Value::Integer(i) => *i as f64,
                 toml::Value::String(s) => {
-                    let (num, unit) = split_quantity(s).ok_or_else(|| sys.error_at(value, &field, format!("'{s}' is not 'number unit'")))?;
+                    let (num, unit) = split_quantity(s).ok_or_else(|| {
+                        sys.error_at(value, &field, format!("'{s}' is not 'number unit'"))
+                    })?;
                     if unit.is_empty() {
                         num
                     } else {
                         let (factor, offset) = md.to_unit(var, unit).ok_or_else(|| {
                             let mut units: Vec<String> = var.unit.iter().cloned().collect();
-                            if let Some(u) = md.units.iter().find(|u| Some(&u.name) == var.unit.as_ref()) {
+                            if let Some(u) =
+                                md.units.iter().find(|u| Some(&u.name) == var.unit.as_ref())
+                            {
                                 units.extend(u.display_units.iter().map(|d| d.0.clone()));
                             }
-                            sys.error_at(value, &field, format!("unit '{unit}' does not fit '{name}' (accepted: {})", units.join(", ")))
+                            sys.error_at(
+                                value,
+                                &field,
+                                format!(
+                                    "unit '{unit}' does not fit '{name}' (accepted: {})",
+                                    units.join(", ")
+                                ),
+                            )
                         })?;
                         (num - offset) / factor
                     }
                 }
-                other => return Err(sys.error_at(value, &field, format!("expected a number, found {other}"))),
+                other => {
+                    return Err(sys.error_at(
+                        value,
+                        &field,
+                        format!("expected a number, found {other}"),
+                    ))
+                }
             };
             sub.set_real(&[var.vr], &[si]).map_err(err)
         }
-        (t, other) => Err(sys.error_at(value, &field, format!("expected a {} value, found {other}", t.as_str()))),
+        (t, other) => Err(sys.error_at(
+            value,
+            &field,
+            format!("expected a {} value, found {other}", t.as_str()),
+        )),
     }
 }
 
@@ -80,9 +133,18 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
     let scheme = match alg.kind.get_ref().as_str() {
         "gauss-seidel" => Scheme::GaussSeidel,
         "jacobi" => Scheme::Jacobi,
-        other => return Err(sys.error_at(&alg.kind, "algorithm.kind", format!("'{other}' is neither 'gauss-seidel' nor 'jacobi'"))),
+        other => {
+            return Err(sys.error_at(
+                &alg.kind,
+                "algorithm.kind",
+                format!("'{other}' is neither 'gauss-seidel' nor 'jacobi'"),
+            ))
+        }
     };
-    for (o, name) in [(&alg.extrapolation_order, "algorithm.extrapolation_order"), (&alg.interpolation_order, "algorithm.interpolation_order")] {
+    for (o, name) in [
+        (&alg.extrapolation_order, "algorithm.extrapolation_order"),
+        (&alg.interpolation_order, "algorithm.interpolation_order"),
+    ] {
         if *o.get_ref() > 2 {
             return Err(sys.error_at(o, name, "polynomial order must be 0, 1 or 2"));
         }
@@ -93,13 +155,23 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
     for e in &f.fmu {
         let name = e.name.get_ref().clone();
         if subs.iter().any(|s| s.name == name) {
-            return Err(sys.error_at(&e.name, "fmu.name", format!("instance name '{name}' is used twice")));
+            return Err(sys.error_at(
+                &e.name,
+                "fmu.name",
+                format!("instance name '{name}' is used twice"),
+            ));
         }
         let path = sys.resolve(e.path.get_ref());
         let fmu = Fmu::load(&path).map_err(|err| sys.error_at(&e.path, "fmu.path", err))?;
-        let slave = fmu.instantiate(&name, false, log.clone()).map_err(|err| sys.error_at(&e.name, "fmu", err))?;
-        slave.setup_experiment(None, 0.0, Some(stop_time_s)).map_err(|err| sys.error_at(&e.name, "fmu", err))?;
-        slave.enter_initialization_mode().map_err(|err| sys.error_at(&e.name, "fmu", err))?;
+        let slave = fmu
+            .instantiate(&name, false, log.clone())
+            .map_err(|err| sys.error_at(&e.name, "fmu", err))?;
+        slave
+            .setup_experiment(None, 0.0, Some(stop_time_s))
+            .map_err(|err| sys.error_at(&e.name, "fmu", err))?;
+        slave
+            .enter_initialization_mode()
+            .map_err(|err| sys.error_at(&e.name, "fmu", err))?;
         for (pname, value) in &e.parameters {
             set_parameter(sys, &fmu, &name, &slave, pname, value)?;
         }
@@ -108,12 +180,25 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
     }
 
     let names: Vec<String> = subs.iter().map(|s| s.name.clone()).collect();
-    let find = |port: &toml::Spanned<String>, field: &str, want: Causality| -> Result<(usize, u32), SystemError> {
-        let (inst, var) = split_port(port.get_ref()).ok_or_else(|| sys.error_at(port, field, "expected 'instance.variable'"))?;
-        let i = names.iter().position(|s| s == inst).ok_or_else(|| sys.error_at(port, field, format!("no FMU instance '{inst}'")))?;
-        let v = fmus[i].description.variable(var).ok_or_else(|| sys.error_at(port, field, format!("'{inst}' has no variable '{var}'")))?;
+    let find = |port: &toml::Spanned<String>,
+                field: &str,
+                want: Causality|
+     -> Result<(usize, u32), SystemError> {
+        let (inst, var) = split_port(port.get_ref())
+            .ok_or_else(|| sys.error_at(port, field, "expected 'instance.variable'"))?;
+        let i = names
+            .iter()
+            .position(|s| s == inst)
+            .ok_or_else(|| sys.error_at(port, field, format!("no FMU instance '{inst}'")))?;
+        let v = fmus[i].description.variable(var).ok_or_else(|| {
+            sys.error_at(port, field, format!("'{inst}' has no variable '{var}'"))
+        })?;
         if v.causality != want || v.var_type != VarType::Real {
-            return Err(sys.error_at(port, field, format!("'{inst}.{var}' is not a Real {}", want.as_str())));
+            return Err(sys.error_at(
+                port,
+                field,
+                format!("'{inst}.{var}' is not a Real {}", want.as_str()),
+            ));
         }
         Ok((i, v.vr))
     };
@@ -125,7 +210,14 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
             return Err(sys.error_at(&c.to, "connection.to", "this input is already connected"));
         }
         let from_slot = subs[si].coupling_slot(svr);
-        links.push((di, Link { to_vr: dvr, from: si, from_slot }));
+        links.push((
+            di,
+            Link {
+                to_vr: dvr,
+                from: si,
+                from_slot,
+            },
+        ));
     }
     for (di, l) in links {
         subs[di].inputs.push(l);
@@ -136,14 +228,24 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
         Some(o) => {
             let mut idx = Vec::new();
             for name in o.get_ref() {
-                let i = subs.iter().position(|s| &s.name == name).ok_or_else(|| sys.error_at(o, "algorithm.order", format!("no FMU instance '{name}'")))?;
+                let i = subs.iter().position(|s| &s.name == name).ok_or_else(|| {
+                    sys.error_at(o, "algorithm.order", format!("no FMU instance '{name}'"))
+                })?;
                 if idx.contains(&i) {
-                    return Err(sys.error_at(o, "algorithm.order", format!("'{name}' appears twice")));
+                    return Err(sys.error_at(
+                        o,
+                        "algorithm.order",
+                        format!("'{name}' appears twice"),
+                    ));
                 }
                 idx.push(i);
             }
             if idx.len() != subs.len() {
-                return Err(sys.error_at(o, "algorithm.order", "must list every FMU instance once"));
+                return Err(sys.error_at(
+                    o,
+                    "algorithm.order",
+                    "must list every FMU instance once",
+                ));
             }
             idx
         }
@@ -151,13 +253,27 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
 
     let mut recorded = Vec::new();
     for v in &f.output.variables {
-        let (inst, var) = split_port(v.get_ref()).ok_or_else(|| sys.error_at(v, "output.variables", "expected 'instance.variable'"))?;
-        let i = subs.iter().position(|s| s.name == inst).ok_or_else(|| sys.error_at(v, "output.variables", format!("no FMU instance '{inst}'")))?;
-        let sv = fmus[i].description.variable(var).ok_or_else(|| sys.error_at(v, "output.variables", format!("'{inst}' has no variable '{var}'")))?;
+        let (inst, var) = split_port(v.get_ref())
+            .ok_or_else(|| sys.error_at(v, "output.variables", "expected 'instance.variable'"))?;
+        let i = subs.iter().position(|s| s.name == inst).ok_or_else(|| {
+            sys.error_at(v, "output.variables", format!("no FMU instance '{inst}'"))
+        })?;
+        let sv = fmus[i].description.variable(var).ok_or_else(|| {
+            sys.error_at(
+                v,
+                "output.variables",
+                format!("'{inst}' has no variable '{var}'"),
+            )
+        })?;
         if sv.var_type != VarType::Real {
             return Err(sys.error_at(v, "output.variables", format!("'{inst}.{var}' is not Real")));
         }
-        recorded.push((i, sv.vr, v.get_ref().clone(), sv.unit.clone().unwrap_or_default()));
+        recorded.push((
+            i,
+            sv.vr,
+            v.get_ref().clone(),
+            sv.unit.clone().unwrap_or_default(),
+        ));
     }
 
     let cosim = CoSim::initialize(
@@ -170,6 +286,17 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
         alg.parallel,
         fmus,
     )
-    .map_err(|e| SystemError(format!("{}: initialization failed: {e}", sys.path.display())))?;
-    Ok(Built { cosim, macro_step_s, stop_time_s, output_interval_s, recorded })
+    .map_err(|e| {
+        SystemError(format!(
+            "{}: initialization failed: {e}",
+            sys.path.display()
+        ))
+    })?;
+    Ok(Built {
+        cosim,
+        macro_step_s,
+        stop_time_s,
+        output_interval_s,
+        recorded,
+    })
 }

@@ -22,11 +22,20 @@ pub struct MasterState {
 pub const FORMAT: u32 = 1;
 
 pub fn encode_history(h: &VecDeque<(f64, Vec<f64>)>) -> Vec<(u64, Vec<u64>)> {
-    h.iter().map(|(t, v)| (t.to_bits(), v.iter().map(|x| x.to_bits()).collect())).collect()
+    h.iter()
+        .map(|(t, v)| (t.to_bits(), v.iter().map(|x| x.to_bits()).collect()))
+        .collect()
 }
 
 pub fn decode_history(h: &[(u64, Vec<u64>)]) -> VecDeque<(f64, Vec<f64>)> {
-    h.iter().map(|(t, v)| (f64::from_bits(*t), v.iter().map(|x| f64::from_bits(*x)).collect())).collect()
+    h.iter()
+        .map(|(t, v)| {
+            (
+                f64::from_bits(*t),
+                v.iter().map(|x| f64::from_bits(*x)).collect(),
+            )
+        })
+        .collect()
 }
 
 fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
@@ -37,25 +46,43 @@ fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 
 /// Writes `dir/checkpoint/` (one `.state` file per instance, then `master.json` last, so a
 /// `master.json` always refers to complete state files).
-pub fn write(dir: &Path, names: &[String], states: &[Vec<u8>], master: &MasterState) -> std::io::Result<()> {
+pub fn write(
+    dir: &Path,
+    names: &[String],
+    states: &[Vec<u8>],
+    master: &MasterState,
+) -> std::io::Result<()> {
     let cp = dir.join("checkpoint");
     std::fs::create_dir_all(&cp)?;
     for (n, s) in names.iter().zip(states) {
         write_atomic(&cp.join(format!("{n}.state")), s)?;
     }
-    write_atomic(&cp.join("master.json"), serde_json::to_string_pretty(master).expect("plain data").as_bytes())
+    write_atomic(
+        &cp.join("master.json"),
+        serde_json::to_string_pretty(master)
+            .expect("plain data")
+            .as_bytes(),
+    )
 }
 
 pub fn read(dir: &Path, names: &[String]) -> Result<(MasterState, Vec<Vec<u8>>), String> {
     let cp = dir.join("checkpoint");
-    let text = std::fs::read_to_string(cp.join("master.json")).map_err(|e| format!("{}: no checkpoint ({e})", cp.display()))?;
-    let m: MasterState = serde_json::from_str(&text).map_err(|e| format!("{}/master.json: {e}", cp.display()))?;
+    let text = std::fs::read_to_string(cp.join("master.json"))
+        .map_err(|e| format!("{}: no checkpoint ({e})", cp.display()))?;
+    let m: MasterState =
+        serde_json::from_str(&text).map_err(|e| format!("{}/master.json: {e}", cp.display()))?;
     if m.format != FORMAT {
-        return Err(format!("checkpoint format {} is not supported (expected {FORMAT})", m.format));
+        return Err(format!(
+            "checkpoint format {} is not supported (expected {FORMAT})",
+            m.format
+        ));
     }
     let states = names
         .iter()
-        .map(|n| std::fs::read(cp.join(format!("{n}.state"))).map_err(|e| format!("{}/{n}.state: {e}", cp.display())))
+        .map(|n| {
+            std::fs::read(cp.join(format!("{n}.state")))
+                .map_err(|e| format!("{}/{n}.state: {e}", cp.display()))
+        })
         .collect::<Result<Vec<_>, _>>()?;
     Ok((m, states))
 }

@@ -17,10 +17,17 @@ const FLUSH_EVERY: Duration = Duration::from_secs(1);
 impl TimeSeriesWriter {
     /// New file with the header `time [s]`, then `name [unit]` per column.
     pub fn create(path: &Path, columns: &[(String, String)]) -> std::io::Result<Self> {
-        let mut w = TimeSeriesWriter { out: BufWriter::new(File::create(path)?), last_flush: Instant::now(), bytes: 0 };
+        let mut w = TimeSeriesWriter {
+            out: BufWriter::new(File::create(path)?),
+            last_flush: Instant::now(),
+            bytes: 0,
+        };
         let mut header = String::from("time [s]");
         for (name, unit) in columns {
-            header.push_str(&format!(",{name} [{}]", if unit.is_empty() { "1" } else { unit }));
+            header.push_str(&format!(
+                ",{name} [{}]",
+                if unit.is_empty() { "1" } else { unit }
+            ));
         }
         header.push('\n');
         w.write_raw(header.as_bytes())?;
@@ -34,7 +41,11 @@ impl TimeSeriesWriter {
         f.set_len(bytes)?;
         let mut f = f;
         f.seek(std::io::SeekFrom::End(0))?;
-        Ok(TimeSeriesWriter { out: BufWriter::new(f), last_flush: Instant::now(), bytes })
+        Ok(TimeSeriesWriter {
+            out: BufWriter::new(f),
+            last_flush: Instant::now(),
+            bytes,
+        })
     }
 
     fn write_raw(&mut self, b: &[u8]) -> std::io::Result<()> {
@@ -67,10 +78,19 @@ impl TimeSeriesWriter {
 pub fn read(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f64>>)> {
     let text = std::fs::read_to_string(path)?;
     let mut lines = text.lines();
-    let header: Vec<String> = lines.next().unwrap_or("").split(',').map(|s| s.to_string()).collect();
+    let header: Vec<String> = lines
+        .next()
+        .unwrap_or("")
+        .split(',')
+        .map(|s| s.to_string())
+        .collect();
     let rows = lines
         .filter(|l| !l.is_empty())
-        .map(|l| l.split(',').map(|x| x.parse::<f64>().unwrap_or(f64::NAN)).collect())
+        .map(|l| {
+            l.split(',')
+                .map(|x| x.parse::<f64>().unwrap_or(f64::NAN))
+                .collect()
+        })
         .collect();
     Ok((header, rows))
 }

@@ -68,18 +68,41 @@ impl Model for Oscillator {
             version: env!("CARGO_PKG_VERSION"),
             variables: vec![
                 Variable::real_parameter("m", vr::M, 1.0, "kg", "mass").range(Some(1e-12), None),
-                Variable::real_parameter("k", vr::K, 4.0 * std::f64::consts::PI.powi(2), "N/m", "stiffness").range(Some(1e-12), None),
+                Variable::real_parameter(
+                    "k",
+                    vr::K,
+                    4.0 * std::f64::consts::PI.powi(2),
+                    "N/m",
+                    "stiffness",
+                )
+                .range(Some(1e-12), None),
                 Variable::real_parameter("x0", vr::X0, 0.0, "m", "initial position"),
                 Variable::real_input("F", vr::F, 0.0, "N", "force"),
                 Variable::real_output("x", vr::X, "m", "position"),
                 Variable::real_output("v", vr::V, "m/s", "velocity"),
-                Variable::real_parameter("fault_time", vr::FAULT_TIME, 0.0, "s", "time after which the fault is injected"),
-                Variable::integer_parameter("fault_mode", vr::FAULT_MODE, 0, "0 none, 1 panic in doStep, 2 fmi2Discard in doStep")
-                    .range(Some(0.0), Some(2.0)),
+                Variable::real_parameter(
+                    "fault_time",
+                    vr::FAULT_TIME,
+                    0.0,
+                    "s",
+                    "time after which the fault is injected",
+                ),
+                Variable::integer_parameter(
+                    "fault_mode",
+                    vr::FAULT_MODE,
+                    0,
+                    "0 none, 1 panic in doStep, 2 fmi2Discard in doStep",
+                )
+                .range(Some(0.0), Some(2.0)),
                 Variable::integer_output("steps", vr::STEPS, "number of completed steps"),
             ],
             log_categories: vec![("logSteps", "one line per step")],
-            default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 1.0, tolerance: 1e-6, step_size: 1e-2 },
+            default_experiment: DefaultExperiment {
+                start_time: 0.0,
+                stop_time: 1.0,
+                tolerance: 1e-6,
+                step_size: 1e-2,
+            },
             documentation_html: DOC,
         }
     }
@@ -103,7 +126,10 @@ impl Model for Oscillator {
             panic!("injected fault at t = {t}");
         }
         if self.fault_mode == 2 && t + h > self.fault_time {
-            return StepOutcome::Discard { reason: "injected discard".into(), reached_time: t };
+            return StepOutcome::Discard {
+                reason: "injected discard".into(),
+                reached_time: t,
+            };
         }
         let d = inputs.derivatives[vr::F as usize];
         self.exact_step(h, [inputs.values[vr::F as usize], d[0], d[1], d[2]]);
@@ -145,7 +171,17 @@ mod tests {
     #[test]
     fn ramp_forcing_matches_closed_form() {
         // x'' + w^2 x = a t, x(0) = v(0) = 0  =>  x = a/w^2 (t - sin(w t)/w).
-        let mut o = Oscillator { m: 1.0, k: 4.0, t: 0.0, x: 0.0, v: 0.0, f: 0.0, fault_mode: 0, fault_time: 0.0, steps: 0 };
+        let mut o = Oscillator {
+            m: 1.0,
+            k: 4.0,
+            t: 0.0,
+            x: 0.0,
+            v: 0.0,
+            f: 0.0,
+            fault_mode: 0,
+            fault_time: 0.0,
+            steps: 0,
+        };
         let a = 3.0;
         let h = 0.1;
         for n in 0..50 {
