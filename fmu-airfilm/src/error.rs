@@ -6,9 +6,17 @@ use std::fmt;
 #[derive(Clone, Debug, PartialEq)]
 pub enum FilmError {
     /// A parameter is non-physical or the mesh is too coarse.
-    InvalidParameter { name: &'static str, value: f64, reason: &'static str },
+    InvalidParameter {
+        name: &'static str,
+        value: f64,
+        reason: &'static str,
+    },
     /// An input (journal state, time, step size) is NaN or infinite or otherwise unusable.
-    InvalidInput { what: &'static str, value: f64, t_s: f64 },
+    InvalidInput {
+        what: &'static str,
+        value: f64,
+        t_s: f64,
+    },
     /// The journal penetrates the ring surface (gap <= 0 somewhere on a lobe): the film model is void.
     BeyondContactLimit { h_min_m: f64, t_s: f64 },
     /// Newton did not converge even after sub-steps were reduced to the minimum step size.
@@ -16,7 +24,10 @@ pub enum FilmError {
     NewtonFailure { t_reached_s: f64, h_s: f64 },
     /// The requested interval needed more than `max_substeps` accepted sub-steps.
     /// The film state stays at the last accepted sub-step, `t_reached_s`.
-    TooManySubsteps { t_reached_s: f64, max_substeps: usize },
+    TooManySubsteps {
+        t_reached_s: f64,
+        max_substeps: usize,
+    },
     /// The steady-state iteration did not converge.
     SteadyNotConverged { iterations: usize, residual: f64 },
     /// The banded LU found an exactly zero pivot (singular Newton matrix).
@@ -26,7 +37,11 @@ pub enum FilmError {
 impl fmt::Display for FilmError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
-            FilmError::InvalidParameter { name, value, reason } => {
+            FilmError::InvalidParameter {
+                name,
+                value,
+                reason,
+            } => {
                 write!(f, "invalid air-film parameter {name} = {value}: {reason}")
             }
             FilmError::InvalidInput { what, value, t_s } => {
@@ -42,11 +57,17 @@ impl fmt::Display for FilmError {
                 "Newton iteration of the Reynolds equation failed at t = {t_reached_s} s even with \
                  sub-step {h_s} s; state kept at t = {t_reached_s} s"
             ),
-            FilmError::TooManySubsteps { t_reached_s, max_substeps } => write!(
+            FilmError::TooManySubsteps {
+                t_reached_s,
+                max_substeps,
+            } => write!(
                 f,
                 "more than {max_substeps} sub-steps needed; state kept at t = {t_reached_s} s"
             ),
-            FilmError::SteadyNotConverged { iterations, residual } => write!(
+            FilmError::SteadyNotConverged {
+                iterations,
+                residual,
+            } => write!(
                 f,
                 "steady-state Reynolds solve did not converge in {iterations} iterations \
                  (residual {residual:e})"

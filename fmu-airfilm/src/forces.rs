@@ -95,7 +95,12 @@ fn eval(mesh: &Mesh, e: usize, pb: &[f64], xi: f64, eta: f64) -> (f64, f64, f64)
 /// Gas mass outflow times R T (W) through the film boundary (lobe edges and bearing edges, both
 /// halves), from the FE pressure gradient: mass flux * R T = p (-h^3/(12 eta) grad p + Omega r h/2 e_phi).
 /// Used to check gas mass conservation: d/dt mass_times_rt_j = -outflow.
-pub fn mass_outflow_times_rt_w(prm: &BearingParams, mesh: &Mesh, j: &JournalState, p: &[f64]) -> f64 {
+pub fn mass_outflow_times_rt_w(
+    prm: &BearingParams,
+    mesh: &Mesh,
+    j: &JournalState,
+    p: &[f64],
+) -> f64 {
     let lam = prm.bearing_number(j.omega_rad_s);
     let c = prm.c_m;
     let mut flow = 0.0;

@@ -91,7 +91,11 @@ impl Geometry {
 /// Exact gap h (m) at block-local angle `s_rad` of block `k` (no floor).
 pub fn gap_m(p: &BearingParams, k: usize, s_rad: f64, j: &JournalState) -> f64 {
     let theta = p.block_start_rad(k) + s_rad + p.alpha_rad;
-    let step = if p.plain_bore { 0.0 } else { p.dh_m * (1.0 - s_rad / p.phi_t_rad) };
+    let step = if p.plain_bore {
+        0.0
+    } else {
+        p.dh_m * (1.0 - s_rad / p.phi_t_rad)
+    };
     p.c_m - j.dx_m * theta.cos() - j.dy_m * theta.sin() + step
 }
 
@@ -115,7 +119,11 @@ pub fn min_gap_m(p: &BearingParams, j: &JournalState) -> f64 {
         let mut s = best.0;
         for _ in 0..8 {
             let theta = p.block_start_rad(k) + s + p.alpha_rad;
-            let dstep = if p.plain_bore { 0.0 } else { -p.dh_m / p.phi_t_rad };
+            let dstep = if p.plain_bore {
+                0.0
+            } else {
+                -p.dh_m / p.phi_t_rad
+            };
             let d1 = j.dx_m * theta.sin() - j.dy_m * theta.cos() + dstep;
             let d2 = j.dx_m * theta.cos() + j.dy_m * theta.sin();
             if d2 <= 0.0 {

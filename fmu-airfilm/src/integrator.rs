@@ -99,7 +99,9 @@ impl AirFilm {
         let n = mesh.n_nodes();
         let nb = mesh.n_blocks;
         Ok(AirFilm {
-            lu: (0..nb).map(|_| BandLu::new(mesh.npb, mesh.kl, mesh.ku)).collect(),
+            lu: (0..nb)
+                .map(|_| BandLu::new(mesh.npb, mesh.kl, mesh.ku))
+                .collect(),
             lu_valid: vec![false; nb],
             lu_c0: vec![0.0; nb],
             lu_age: vec![0; nb],
@@ -122,12 +124,25 @@ impl AirFilm {
 
     /// Replaces the pressure field by `p_rel` (P = p/p_a per node, e.g. a steady solution) at
     /// time `t_s` with inputs `journal`; the step history restarts (BDF1, initial step).
-    pub fn set_pressures_rel(&mut self, t_s: f64, journal: JournalState, p_rel: &[f64]) -> Result<(), FilmError> {
+    pub fn set_pressures_rel(
+        &mut self,
+        t_s: f64,
+        journal: JournalState,
+        p_rel: &[f64],
+    ) -> Result<(), FilmError> {
         if p_rel.len() != self.p.len() {
-            return Err(FilmError::InvalidInput { what: "pressure vector length", value: p_rel.len() as f64, t_s });
+            return Err(FilmError::InvalidInput {
+                what: "pressure vector length",
+                value: p_rel.len() as f64,
+                t_s,
+            });
         }
         if let Some(v) = p_rel.iter().find(|v| !v.is_finite() || **v <= 0.0) {
-            return Err(FilmError::InvalidInput { what: "scaled pressure", value: *v, t_s });
+            return Err(FilmError::InvalidInput {
+                what: "scaled pressure",
+                value: *v,
+                t_s,
+            });
         }
         journal.check_finite(t_s)?;
         self.p.copy_from_slice(p_rel);
@@ -190,10 +205,18 @@ impl AirFilm {
         journal: &dyn Fn(f64) -> JournalState,
     ) -> Result<StepStats, FilmError> {
         if !t0_s.is_finite() {
-            return Err(FilmError::InvalidInput { what: "t0", value: t0_s, t_s: self.t_s });
+            return Err(FilmError::InvalidInput {
+                what: "t0",
+                value: t0_s,
+                t_s: self.t_s,
+            });
         }
         if !(h_s.is_finite() && h_s >= 0.0) {
-            return Err(FilmError::InvalidInput { what: "step size", value: h_s, t_s: t0_s });
+            return Err(FilmError::InvalidInput {
+                what: "step size",
+                value: h_s,
+                t_s: t0_s,
+            });
         }
         let mut stats = StepStats::default();
         self.t_s = t0_s;
@@ -204,6 +227,8 @@ impl AirFilm {
         let t_end = t0_s + h_s;
         let fixed = self.params.fixed_step_s > 0.0;
         let mut n_acc = 0usize;
+        // After a rejection the next step must really be smaller: no stretching to the end.
+        let mut just_rejected = false;
         let result = loop {
             let t = self.t_s;
             let remaining = t_end - t;
@@ -211,10 +236,17 @@ impl AirFilm {
                 break Ok(());
             }
             if n_acc >= self.params.max_substeps {
-                break Err(FilmError::TooManySubsteps { t_reached_s: t, max_substeps: self.params.max_substeps });
+                break Err(FilmError::TooManySubsteps {
+                    t_reached_s: t,
+                    max_substeps: self.params.max_substeps,
+                });
             }
-            let proposal = if fixed { self.params.fixed_step_s } else { self.h_next_s.min(self.params.h_max_s) };
-            let hs = if remaining <= 1.2 * proposal {
+            let proposal = if fixed {
+                self.params.fixed_step_s
+            } else {
+                self.h_next_s.min(self.params.h_max_s)
+            };
+            let hs = if remaining <= proposal || (remaining <= 1.2 * proposal && !just_rejected) {
                 remaining
             } else if remaining < 2.0 * proposal && !fixed {
                 0.5 * remaining
@@ -229,18 +261,31 @@ impl AirFilm {
             }
             let h_min_m = min_gap_m(&self.params, &j_new);
             if h_min_m <= 0.0 {
-                break Err(FilmError::BeyondContactLimit { h_min_m, t_s: t_new });
+                break Err(FilmError::BeyondContactLimit {
+                    h_min_m,
+                    t_s: t_new,
+                });
             }
+            just_rejected = true;
             match self.try_step(hs, &j_new, &mut stats) {
                 Ok((err, order)) if fixed || err <= 1.0 => {
+                    just_rejected = false;
                     self.accept(t_new, hs, j_new);
                     n_acc += 1;
                     stats.n_steps += 1;
                     stats.h_last_s = hs;
                     let ratio = step_ratio(err, order);
-                    let ratio = if ratio > 1.0 && ratio < 1.25 { 1.0 } else { ratio };
+                    let ratio = if ratio > 1.0 && ratio < 1.25 {
+                        1.0
+                    } else {
+                        ratio
+                    };
                     let new = hs * ratio;
-                    self.h_next_s = if hs < proposal && ratio >= 1.0 { new.max(proposal) } else { new };
+                    self.h_next_s = if hs < proposal && ratio >= 1.0 {
+                        new.max(proposal)
+                    } else {
+                        new
+                    };
                 }
                 Ok((err, order)) => {
                     stats.n_rejected += 1;
@@ -249,14 +294,20 @@ impl AirFilm {
                 Err(()) => {
                     stats.n_newton_failures += 1;
                     if fixed {
-                        break Err(FilmError::NewtonFailure { t_reached_s: t, h_s: hs });
+                        break Err(FilmError::NewtonFailure {
+                            t_reached_s: t,
+                            h_s: hs,
+                        });
                     }
                     self.h_next_s = 0.25 * hs;
                     self.lu_valid.iter_mut().for_each(|v| *v = false);
                 }
             }
             if self.h_next_s < H_MIN_S {
-                break Err(FilmError::NewtonFailure { t_reached_s: t, h_s: self.h_next_s });
+                break Err(FilmError::NewtonFailure {
+                    t_reached_s: t,
+                    h_s: self.h_next_s,
+                });
             }
         };
         self.totals.add(&stats);
@@ -266,7 +317,13 @@ impl AirFilm {
     fn ensure_scratch(&mut self) {
         let n = self.p.len();
         let s = &mut self.scratch;
-        for v in [&mut s.res, &mut s.hist, &mut s.p_new, &mut s.p_pred, &mut s.wt] {
+        for v in [
+            &mut s.res,
+            &mut s.hist,
+            &mut s.p_new,
+            &mut s.p_pred,
+            &mut s.wt,
+        ] {
             v.resize(n, 0.0);
         }
     }
@@ -288,7 +345,12 @@ impl AirFilm {
 
     /// One BDF step of size `hs` from the current state. Ok((weighted error, order)) when Newton
     /// converged; Err(()) when it did not.
-    fn try_step(&mut self, hs: f64, j_new: &JournalState, stats: &mut StepStats) -> Result<(f64, usize), ()> {
+    fn try_step(
+        &mut self,
+        hs: f64,
+        j_new: &JournalState,
+        stats: &mut StepStats,
+    ) -> Result<(f64, usize), ()> {
         let prm = &self.params;
         let n = self.p.len();
         let (h1, h2) = (self.h1_s, self.h2_s);
@@ -340,18 +402,31 @@ impl AirFilm {
             s.wt[i] = 1.0 / (prm.rtol * self.p[i].abs() + atol);
         }
         self.geom.update(j_new, prm.c_m, &mut s.gap);
-        let co = Coeffs { lambda: prm.bearing_number(j_new.omega_rad_s), tau_s: prm.squeeze_time_s(), c0_per_s: c0 };
+        let co = Coeffs {
+            lambda: prm.bearing_number(j_new.omega_rad_s),
+            tau_s: prm.squeeze_time_s(),
+            c0_per_s: c0,
+        };
         s.p_new.copy_from_slice(&s.p_pred);
         let npb = self.mesh.npb;
         for k in 0..self.mesh.n_blocks {
             let r = k * npb..(k + 1) * npb;
             let c0_ratio = c0 / self.lu_c0[k];
-            let mut need_jac = !self.lu_valid[k] || !(0.67..=1.5).contains(&c0_ratio) || self.lu_age[k] >= MAX_LU_AGE;
+            let mut need_jac = !self.lu_valid[k]
+                || !(0.67..=1.5).contains(&c0_ratio)
+                || self.lu_age[k] >= MAX_LU_AGE;
             let mut converged = false;
             for _attempt in 0..2 {
                 if need_jac {
                     s.p_new[r.clone()].copy_from_slice(&s.p_pred[r.clone()]);
-                    reynolds::jacobian(&self.mesh, &s.gap, k, co, &s.p_new[r.clone()], &mut self.lu[k]);
+                    reynolds::jacobian(
+                        &self.mesh,
+                        &s.gap,
+                        k,
+                        co,
+                        &s.p_new[r.clone()],
+                        &mut self.lu[k],
+                    );
                     stats.n_jacobians += 1;
                     self.lu_valid[k] = false;
                     if self.lu[k].factor().is_err() {
@@ -361,7 +436,18 @@ impl AirFilm {
                     self.lu_c0[k] = c0;
                     self.lu_age[k] = 0;
                 }
-                match newton_block(&self.mesh, &s.gap, k, co, &self.lu[k], &mut s.p_new[r.clone()], &s.hist[r.clone()], &mut s.res[r.clone()], &s.wt[r.clone()], stats) {
+                match newton_block(
+                    &self.mesh,
+                    &s.gap,
+                    k,
+                    co,
+                    &self.lu[k],
+                    &mut s.p_new[r.clone()],
+                    &s.hist[r.clone()],
+                    &mut s.res[r.clone()],
+                    &s.wt[r.clone()],
+                    stats,
+                ) {
                     true => {
                         converged = true;
                         break;
@@ -447,7 +533,13 @@ fn newton_block(
 }
 
 /// Outputs for a pressure field (shared with the steady solver).
-pub(crate) fn outputs_for(prm: &BearingParams, mesh: &Mesh, geom: &Geometry, j: &JournalState, p: &[f64]) -> FilmOutputs {
+pub(crate) fn outputs_for(
+    prm: &BearingParams,
+    mesh: &Mesh,
+    geom: &Geometry,
+    j: &JournalState,
+    p: &[f64],
+) -> FilmOutputs {
     let fp = forces::pressure_force_n(prm, mesh, geom, p);
     let h_min_m = min_gap_m(prm, j);
     let fc = contact::contact_force_n(prm, j, h_min_m);

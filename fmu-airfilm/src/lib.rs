@@ -44,7 +44,13 @@ pub struct JournalState {
 impl JournalState {
     /// Journal at rest at (dx, dy) with rotor speed omega.
     pub fn at(dx_m: f64, dy_m: f64, omega_rad_s: f64) -> Self {
-        JournalState { dx_m, dy_m, vx_m_s: 0.0, vy_m_s: 0.0, omega_rad_s }
+        JournalState {
+            dx_m,
+            dy_m,
+            vx_m_s: 0.0,
+            vy_m_s: 0.0,
+            omega_rad_s,
+        }
     }
 
     /// Err if any component is NaN or infinite.

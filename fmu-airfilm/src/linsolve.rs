@@ -19,7 +19,14 @@ pub struct BandLu {
 impl BandLu {
     pub fn new(n: usize, kl: usize, ku: usize) -> Self {
         let ldab = 2 * kl + ku + 1;
-        BandLu { n, kl, ku, ldab, ab: vec![0.0; ldab * n], ipiv: vec![0; n] }
+        BandLu {
+            n,
+            kl,
+            ku,
+            ldab,
+            ab: vec![0.0; ldab * n],
+            ipiv: vec![0; n],
+        }
     }
 
     /// Clears the matrix before assembly.

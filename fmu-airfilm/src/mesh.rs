@@ -35,7 +35,12 @@ pub struct Basis {
 
 impl Basis {
     pub fn new() -> Self {
-        let mut b = Basis { n: [[0.0; 9]; 9], dx: [[0.0; 9]; 9], dy: [[0.0; 9]; 9], w: [0.0; 9] };
+        let mut b = Basis {
+            n: [[0.0; 9]; 9],
+            dx: [[0.0; 9]; 9],
+            dy: [[0.0; 9]; 9],
+            w: [0.0; 9],
+        };
         for qa in 0..3 {
             for qb in 0..3 {
                 let q = 3 * qa + qb;

@@ -79,7 +79,13 @@ impl BearingParams {
 
     /// A plain 360-degree bore of the paper's radius, width and clearance (dH = 0, periodic in phi).
     pub fn plain_bore() -> Self {
-        BearingParams { dh_m: 0.0, plain_bore: true, n_elem_phi: 40, alpha_rad: 0.0, ..Self::paper() }
+        BearingParams {
+            dh_m: 0.0,
+            plain_bore: true,
+            n_elem_phi: 40,
+            alpha_rad: 0.0,
+            ..Self::paper()
+        }
     }
 
     /// Number of pressure blocks that are solved independently (lobes; 1 for a plain bore).
@@ -111,7 +117,8 @@ impl BearingParams {
 
     /// Bearing number Lambda = 6 eta Omega r^2 / (p_a C^2).
     pub fn bearing_number(&self, omega_rad_s: f64) -> f64 {
-        6.0 * self.eta_pa_s * omega_rad_s * self.r_m * self.r_m / (self.p_a_pa * self.c_m * self.c_m)
+        6.0 * self.eta_pa_s * omega_rad_s * self.r_m * self.r_m
+            / (self.p_a_pa * self.c_m * self.c_m)
     }
 
     /// Squeeze time constant tau = 12 eta r^2 / (p_a C^2) of the scaled Reynolds equation.
@@ -121,7 +128,13 @@ impl BearingParams {
 
     /// Checks every parameter; the error names the first offending one.
     pub fn validate(&self) -> Result<(), FilmError> {
-        let bad = |name, value, reason| Err(FilmError::InvalidParameter { name, value, reason });
+        let bad = |name, value, reason| {
+            Err(FilmError::InvalidParameter {
+                name,
+                value,
+                reason,
+            })
+        };
         let floats = [
             ("r", self.r_m),
             ("b", self.b_m),
@@ -144,7 +157,13 @@ impl BearingParams {
                 return bad(name, v, "must be finite (NaN or infinite given)");
             }
         }
-        for (name, v) in [("r", self.r_m), ("b", self.b_m), ("C", self.c_m), ("eta", self.eta_pa_s), ("p_a", self.p_a_pa)] {
+        for (name, v) in [
+            ("r", self.r_m),
+            ("b", self.b_m),
+            ("C", self.c_m),
+            ("eta", self.eta_pa_s),
+            ("p_a", self.p_a_pa),
+        ] {
             if v <= 0.0 {
                 return bad(name, v, "must be > 0");
             }
@@ -173,13 +192,25 @@ impl BearingParams {
         }
         let min_phi = if self.plain_bore { 8 } else { 4 };
         if self.n_elem_phi < min_phi {
-            return bad("n_elem_phi", self.n_elem_phi as f64, "mesh too coarse (>= 4 per lobe, >= 8 for a plain bore)");
+            return bad(
+                "n_elem_phi",
+                self.n_elem_phi as f64,
+                "mesh too coarse (>= 4 per lobe, >= 8 for a plain bore)",
+            );
         }
         if self.n_elem_z < 2 {
-            return bad("n_elem_z", self.n_elem_z as f64, "mesh too coarse (>= 2 across the half width)");
+            return bad(
+                "n_elem_z",
+                self.n_elem_z as f64,
+                "mesh too coarse (>= 2 across the half width)",
+            );
         }
         if self.n_elem_phi > 2000 || self.n_elem_z > 2000 {
-            return bad("n_elem_phi", self.n_elem_phi.max(self.n_elem_z) as f64, "mesh too fine (> 2000)");
+            return bad(
+                "n_elem_phi",
+                self.n_elem_phi.max(self.n_elem_z) as f64,
+                "mesh too fine (> 2000)",
+            );
         }
         if !(self.rtol > 0.0 && self.rtol < 1.0) {
             return bad("rtol", self.rtol, "must lie in (0, 1)");
@@ -191,10 +222,18 @@ impl BearingParams {
             return bad("max_substeps", 0.0, "must be >= 1");
         }
         if self.h_init_s <= 0.0 || self.h_max_s <= 0.0 {
-            return bad("h_init_s", self.h_init_s.min(self.h_max_s), "initial and maximum step must be > 0");
+            return bad(
+                "h_init_s",
+                self.h_init_s.min(self.h_max_s),
+                "initial and maximum step must be > 0",
+            );
         }
         if self.fixed_step_s < 0.0 {
-            return bad("fixed_step_s", self.fixed_step_s, "must be >= 0 (0 = adaptive)");
+            return bad(
+                "fixed_step_s",
+                self.fixed_step_s,
+                "must be >= 0 (0 = adaptive)",
+            );
         }
         Ok(())
     }

@@ -159,18 +159,32 @@ impl Model for AirFilmFmu {
             vy_m_s: store.real(vr::VY),
             omega_rad_s: store.real(vr::OMEGA),
         };
-        journal.check_finite(start_time).map_err(|e| e.to_string())?;
+        journal
+            .check_finite(start_time)
+            .map_err(|e| e.to_string())?;
         let p_rel = if store.boolean(vr::START_STEADY) {
-            crate::steady_state(&params, journal).map_err(|e| format!("steady start: {e}"))?.p_rel
+            crate::steady_state(&params, journal)
+                .map_err(|e| format!("steady start: {e}"))?
+                .p_rel
         } else {
             vec![1.0; film.pressures_rel().len()]
         };
-        film.set_pressures_rel(start_time, journal, &p_rel).map_err(|e| e.to_string())?;
+        film.set_pressures_rel(start_time, journal, &p_rel)
+            .map_err(|e| e.to_string())?;
         let outputs = film.outputs();
         if outputs.h_min_m <= 0.0 {
-            return Err(FilmError::BeyondContactLimit { h_min_m: outputs.h_min_m, t_s: start_time }.to_string());
+            return Err(FilmError::BeyondContactLimit {
+                h_min_m: outputs.h_min_m,
+                t_s: start_time,
+            }
+            .to_string());
         }
-        Ok(AirFilmFmu { film, outputs, previous: None, time_s: start_time })
+        Ok(AirFilmFmu {
+            film,
+            outputs,
+            previous: None,
+            time_s: start_time,
+        })
     }
 
     fn do_step(&mut self, t: f64, h: f64, inputs: &Inputs, log: &mut dyn Log) -> StepOutcome {
@@ -199,7 +213,10 @@ impl Model for AirFilmFmu {
                 let reached = self.film.time_s();
                 self.previous = None;
                 self.time_s = reached;
-                StepOutcome::Discard { reason: e.to_string(), reached_time: reached }
+                StepOutcome::Discard {
+                    reason: e.to_string(),
+                    reached_time: reached,
+                }
             }
             Err(e) => StepOutcome::Error(e.to_string()),
         }

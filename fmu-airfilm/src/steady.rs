@@ -30,7 +30,10 @@ pub struct SteadySolution {
 const MAX_ITERS: usize = 200;
 
 /// Steady state of `params` at `journal`.
-pub fn steady_state(params: &BearingParams, journal: JournalState) -> Result<SteadySolution, FilmError> {
+pub fn steady_state(
+    params: &BearingParams,
+    journal: JournalState,
+) -> Result<SteadySolution, FilmError> {
     params.validate()?;
     let mesh = Mesh::new(params);
     let p0 = vec![1.0; mesh.n_nodes()];
@@ -67,7 +70,11 @@ pub fn steady_from(
         let pb = &mut p[k * npb..(k + 1) * npb];
         let src = source.map(|s| &s[k * ne * 9..(k + 1) * ne * 9]);
         let steady = |pb: &[f64], res: &mut [f64]| {
-            let co = Coeffs { lambda, tau_s: tau, c0_per_s: 0.0 };
+            let co = Coeffs {
+                lambda,
+                tau_s: tau,
+                c0_per_s: 0.0,
+            };
             reynolds::residual(&mesh, &gap, k, co, pb, &zero, src, res);
             res.iter().fold(0.0f64, |m, v| m.max(v.abs()))
         };
@@ -77,12 +84,17 @@ pub fn steady_from(
         let mut done = false;
         for _ in 0..MAX_ITERS {
             iterations += 1;
-            let co = Coeffs { lambda, tau_s: tau, c0_per_s: c0 };
+            let co = Coeffs {
+                lambda,
+                tau_s: tau,
+                c0_per_s: c0,
+            };
             for i in 0..npb {
                 hist[i] = c0 * pb[i];
             }
             reynolds::jacobian(&mesh, &gap, k, co, pb, &mut lu);
-            lu.factor().map_err(|row| FilmError::SingularMatrix { lobe: k, row })?;
+            lu.factor()
+                .map_err(|row| FilmError::SingularMatrix { lobe: k, row })?;
             reynolds::residual(&mesh, &gap, k, co, pb, &hist, src, &mut res);
             lu.solve(&mut res);
             // Damping keeps the pressure positive (P h^3 is the diffusion coefficient).
@@ -116,16 +128,27 @@ pub fn steady_from(
             }
         }
         if !done {
-            return Err(FilmError::SteadyNotConverged { iterations, residual: r });
+            return Err(FilmError::SteadyNotConverged {
+                iterations,
+                residual: r,
+            });
         }
     }
     let outputs = outputs_for(params, &mesh, &geom, &journal, &p);
-    Ok(SteadySolution { p_rel: p, outputs, iterations, mesh })
+    Ok(SteadySolution {
+        p_rel: p,
+        outputs,
+        iterations,
+        mesh,
+    })
 }
 
 /// Static stiffness K_ij = -dF_i/d(d_j) (N/m) at `journal` by central differences of steady
 /// states (step 2e-3 C), each warm-started from the steady state at `journal`.
-pub fn static_stiffness(params: &BearingParams, journal: JournalState) -> Result<[[f64; 2]; 2], FilmError> {
+pub fn static_stiffness(
+    params: &BearingParams,
+    journal: JournalState,
+) -> Result<[[f64; 2]; 2], FilmError> {
     let base = steady_state(params, journal)?;
     let d = 2e-3 * params.c_m;
     let mut k = [[0.0; 2]; 2];

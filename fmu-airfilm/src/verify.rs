@@ -8,8 +8,20 @@ use crate::steady::steady_from;
 use crate::JournalState;
 
 /// 5-point Gauss-Legendre rule for error norms (avoids superconvergent points of the 3-point rule).
-const G5_X: [f64; 5] = [-0.906_179_845_938_664, -0.538_469_310_105_683, 0.0, 0.538_469_310_105_683, 0.906_179_845_938_664];
-const G5_W: [f64; 5] = [0.236_926_885_056_189, 0.478_628_670_499_366, 0.568_888_888_888_889, 0.478_628_670_499_366, 0.236_926_885_056_189];
+const G5_X: [f64; 5] = [
+    -0.906_179_845_938_664,
+    -0.538_469_310_105_683,
+    0.0,
+    0.538_469_310_105_683,
+    0.906_179_845_938_664,
+];
+const G5_W: [f64; 5] = [
+    0.236_926_885_056_189,
+    0.478_628_670_499_366,
+    0.568_888_888_888_889,
+    0.478_628_670_499_366,
+    0.236_926_885_056_189,
+];
 
 /// Solves the steady scaled Reynolds equation with source S(phi, zeta) and Dirichlet data from
 /// `exact(phi, zeta)` (phi ring-fixed, zeta = z/r), and returns (L2 error of P, L2 norm of exact).

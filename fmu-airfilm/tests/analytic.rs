@@ -14,14 +14,20 @@ fn loads(prm: &BearingParams, eps: f64, omega: f64) -> (f64, f64) {
 #[test]
 fn short_bearing_incompressible_limit() {
     // L/D = 0.1, Lambda = 1e-3: the compressible film is incompressible to O(Lambda).
-    let prm = BearingParams { b_m: 3e-3, n_elem_phi: 48, n_elem_z: 4, ..BearingParams::plain_bore() };
+    let prm = BearingParams {
+        b_m: 3e-3,
+        n_elem_phi: 48,
+        n_elem_z: 4,
+        ..BearingParams::plain_bore()
+    };
     let lam_target = 1e-3;
     let omega = lam_target * prm.p_a_pa * prm.c_m.powi(2) / (6.0 * prm.eta_pa_s * prm.r_m.powi(2));
     for eps in [0.2, 0.5] {
         let (wr, wt) = loads(&prm, eps, omega);
         let u = omega * prm.r_m;
         let l = prm.b_m;
-        let ocvirk = PI * prm.eta_pa_s * u * l.powi(3) * eps / (2.0 * prm.c_m.powi(2) * (1.0 - eps * eps).powf(1.5));
+        let ocvirk = PI * prm.eta_pa_s * u * l.powi(3) * eps
+            / (2.0 * prm.c_m.powi(2) * (1.0 - eps * eps).powf(1.5));
         let rel = (wt - ocvirk) / ocvirk;
         println!(
             "short bearing eps {eps}: W_t = {wt:.6e} N, Ocvirk full film {ocvirk:.6e} N, rel. diff {rel:+.3e}; W_r/W_t = {:.2e}",
@@ -40,7 +46,10 @@ impl C {
     }
     fn div(self, o: C) -> C {
         let d = o.0 * o.0 + o.1 * o.1;
-        C((self.0 * o.0 + self.1 * o.1) / d, (self.1 * o.0 - self.0 * o.1) / d)
+        C(
+            (self.0 * o.0 + self.1 * o.1) / d,
+            (self.1 * o.0 - self.0 * o.1) / d,
+        )
     }
     fn sqrt(self) -> C {
         let r = self.0.hypot(self.1).sqrt();
@@ -59,7 +68,11 @@ impl C {
 
 #[test]
 fn small_eccentricity_compressible_ausman() {
-    let prm = BearingParams { n_elem_phi: 40, n_elem_z: 8, ..BearingParams::plain_bore() };
+    let prm = BearingParams {
+        n_elem_phi: 40,
+        n_elem_z: 8,
+        ..BearingParams::plain_bore()
+    };
     let l_over_d = prm.b_m / (2.0 * prm.r_m);
     let eps = 0.01;
     for lambda in [0.3, 1.0, 3.0, 10.0] {
@@ -71,7 +84,9 @@ fn small_eccentricity_compressible_ausman() {
         // Ausman: load/(p_a L D eps) = (pi/(2 lam)) |Lambda/(1+i Lambda) (lam - tanh(kappa lam)/kappa)|.
         let kappa = C(1.0, lambda).sqrt();
         let t = kappa.mul(C(l_over_d, 0.0)).tanh().div(kappa);
-        let z = C(lambda, 0.0).div(C(1.0, lambda)).mul(C(l_over_d - t.0, -t.1));
+        let z = C(lambda, 0.0)
+            .div(C(1.0, lambda))
+            .mul(C(l_over_d - t.0, -t.1));
         let ana = PI / (2.0 * l_over_d) * z.0.hypot(z.1);
         // arg(z) is the force angle measured from the tangential direction: attitude = pi/2 + arg.
         let att_ana = 0.5 * PI + z.1.atan2(z.0);

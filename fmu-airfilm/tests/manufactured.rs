@@ -35,15 +35,29 @@ fn l2_error_order_is_three_on_the_lobed_geometry() {
     let mut errs = Vec::new();
     let mut sizes = Vec::new();
     for m in [3usize, 6, 12, 24] {
-        let prm = BearingParams { n_elem_phi: 2 * m, n_elem_z: m, ..base.clone() };
+        let prm = BearingParams {
+            n_elem_phi: 2 * m,
+            n_elem_z: m,
+            ..base.clone()
+        };
         let (e, n) = manufactured_l2_error(&prm, j, &exact, &source).unwrap();
         let rel = e / n;
-        println!("mesh {:>3} x {:>3} per lobe: relative L2 error {:.3e}", 2 * m, m, rel);
+        println!(
+            "mesh {:>3} x {:>3} per lobe: relative L2 error {:.3e}",
+            2 * m,
+            m,
+            rel
+        );
         errs.push(rel);
         sizes.push(1.0 / m as f64);
     }
-    let orders: Vec<f64> = (1..errs.len()).map(|i| (errs[i - 1] / errs[i]).ln() / 2f64.ln()).collect();
-    println!("observed L2 orders: {:?}", orders.iter().map(|o| format!("{o:.3}")).collect::<Vec<_>>());
+    let orders: Vec<f64> = (1..errs.len())
+        .map(|i| (errs[i - 1] / errs[i]).ln() / 2f64.ln())
+        .collect();
+    println!(
+        "observed L2 orders: {:?}",
+        orders.iter().map(|o| format!("{o:.3}")).collect::<Vec<_>>()
+    );
     let last = *orders.last().unwrap();
     assert!(last > 2.7 && last < 3.5, "observed order {last}");
 }
