@@ -1,0 +1,62 @@
+//! Hand-written benchmark (harness = false): medians over repeats on the paper mesh (1599 nodes).
+//! Run: cargo bench -p fmu-airfilm
+
+use fmu_airfilm::{steady_state, AirFilm, BearingParams, JournalState};
+use std::f64::consts::PI;
+use std::time::Instant;
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    v[v.len() / 2]
+}
+
+fn main() {
+    let prm = BearingParams::paper();
+    let om = 2.0 * PI * 1000.0;
+    let j = JournalState::at(0.0, -0.5 * prm.c_m, om);
+    let mut t_steady = Vec::new();
+    for _ in 0..15 {
+        let t = Instant::now();
+        let s = steady_state(&prm, j).unwrap();
+        t_steady.push(t.elapsed().as_secs_f64());
+        std::hint::black_box(s);
+    }
+    println!("steady state, paper mesh, eps 0.5, 1000 Hz: median {:.2} ms", median(t_steady) * 1e3);
+
+    // Whirl orbit eps 0.3, whirl 400 Hz, Omega 1000 Hz; 10 us communication steps after 5 ms warm-up.
+    let e = 0.3 * prm.c_m;
+    let w = 2.0 * PI * 400.0;
+    let orbit = move |t: f64| JournalState {
+        dx_m: e * (w * t).cos(),
+        dy_m: e * (w * t).sin(),
+        vx_m_s: -e * w * (w * t).sin(),
+        vy_m_s: e * w * (w * t).cos(),
+        omega_rad_s: om,
+    };
+    let h = 10e-6;
+    let mut film = AirFilm::new(prm.clone()).unwrap();
+    let mut k = 0usize;
+    while (k as f64) * h < 5e-3 {
+        film.advance(k as f64 * h, h, &orbit).unwrap();
+        k += 1;
+    }
+    let before = film.total_stats();
+    let mut t_step = Vec::new();
+    let n = 2000;
+    for _ in 0..n {
+        let t = Instant::now();
+        film.advance(k as f64 * h, h, &orbit).unwrap();
+        t_step.push(t.elapsed().as_secs_f64());
+        k += 1;
+    }
+    let after = film.total_stats();
+    let per = |a: usize, b: usize| (a - b) as f64 / n as f64;
+    println!(
+        "advance 10 us on whirl orbit: median {:.1} us, mean {:.1} us; per call: {:.2} sub-steps, {:.2} Newton iterations (block solves), {:.3} Jacobian+LU (block)",
+        median(t_step.clone()) * 1e6,
+        t_step.iter().sum::<f64>() / n as f64 * 1e6,
+        per(after.n_steps, before.n_steps),
+        per(after.n_newton_iters, before.n_newton_iters),
+        per(after.n_jacobians, before.n_jacobians)
+    );
+}
