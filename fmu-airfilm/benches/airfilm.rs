@@ -21,7 +21,10 @@ fn main() {
         t_steady.push(t.elapsed().as_secs_f64());
         std::hint::black_box(s);
     }
-    println!("steady state, paper mesh, eps 0.5, 1000 Hz: median {:.2} ms", median(t_steady) * 1e3);
+    println!(
+        "steady state, paper mesh, eps 0.5, 1000 Hz: median {:.2} ms",
+        median(t_steady) * 1e3
+    );
 
     // Whirl orbit eps 0.3, whirl 400 Hz, Omega 1000 Hz; 10 us communication steps after 5 ms warm-up.
     let e = 0.3 * prm.c_m;

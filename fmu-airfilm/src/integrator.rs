@@ -85,6 +85,8 @@ pub struct AirFilm {
     lu_valid: Vec<bool>,
     lu_c0: Vec<f64>,
     lu_age: Vec<u32>,
+    /// Last observed Newton contraction rate per block (CVODE-style first-iteration test).
+    newton_rate: Vec<f64>,
     totals: StepStats,
     #[serde(skip)]
     scratch: Scratch,
@@ -105,6 +107,7 @@ impl AirFilm {
             lu_valid: vec![false; nb],
             lu_c0: vec![0.0; nb],
             lu_age: vec![0; nb],
+            newton_rate: vec![1.0; nb],
             h_next_s: params.h_init_s,
             params,
             mesh,
@@ -435,6 +438,7 @@ impl AirFilm {
                     self.lu_valid[k] = true;
                     self.lu_c0[k] = c0;
                     self.lu_age[k] = 0;
+                    self.newton_rate[k] = 1.0;
                 }
                 match newton_block(
                     &self.mesh,
@@ -446,6 +450,7 @@ impl AirFilm {
                     &s.hist[r.clone()],
                     &mut s.res[r.clone()],
                     &s.wt[r.clone()],
+                    &mut self.newton_rate[k],
                     stats,
                 ) {
                     true => {
@@ -495,6 +500,7 @@ fn newton_block(
     hist: &[f64],
     res: &mut [f64],
     wt: &[f64],
+    rate_prev: &mut f64,
     stats: &mut StepStats,
 ) -> bool {
     let mut norm_prev = f64::INFINITY;
@@ -515,11 +521,15 @@ fn newton_block(
             return false;
         }
         if it == 0 {
-            if norm < 0.1 * NEWTON_TOL {
-                return true;
+            // The contraction rate of the previous solve with this matrix predicts the error left
+            // after the first update (CVODE's test); a fresh matrix has no history (rate 1).
+            let r = rate_prev.clamp(0.2, 0.9);
+            if norm * r / (1.0 - r) < NEWTON_TOL || norm < 0.1 * NEWTON_TOL {
+                return p.iter().all(|v| *v > 0.0);
             }
         } else {
             rate = (norm / norm_prev).max(0.2 * rate);
+            *rate_prev = rate;
             if rate >= 0.9 {
                 return false;
             }

@@ -4,7 +4,12 @@
 use fmu_airfilm::{steady_state, AirFilm, BearingParams, FilmError, JournalState};
 use std::f64::consts::PI;
 
-fn whirl(prm: &BearingParams, eps: f64, f_whirl_hz: f64, f_spin_hz: f64) -> impl Fn(f64) -> JournalState {
+fn whirl(
+    prm: &BearingParams,
+    eps: f64,
+    f_whirl_hz: f64,
+    f_spin_hz: f64,
+) -> impl Fn(f64) -> JournalState {
     let e = eps * prm.c_m;
     let w = 2.0 * PI * f_whirl_hz;
     let om = 2.0 * PI * f_spin_hz;
@@ -28,12 +33,21 @@ fn film_on_orbit(prm: &BearingParams, orbit: &dyn Fn(f64) -> JournalState) -> Ai
 
 #[test]
 fn temporal_order_on_a_whirl_orbit() {
-    let base = BearingParams { n_elem_phi: 8, n_elem_z: 3, ..BearingParams::paper() };
+    let base = BearingParams {
+        n_elem_phi: 8,
+        n_elem_z: 3,
+        ..BearingParams::paper()
+    };
     let orbit = whirl(&base, 0.4, 400.0, 1000.0);
     let t_end = 2e-4;
     let run = |h: f64| {
         // Tight Newton convergence (its tolerance scales with rtol) so that only the BDF error remains.
-        let prm = BearingParams { fixed_step_s: h, rtol: 1e-10, atol_pa: 1e-6, ..base.clone() };
+        let prm = BearingParams {
+            fixed_step_s: h,
+            rtol: 1e-10,
+            atol_pa: 1e-6,
+            ..base.clone()
+        };
         let mut f = film_on_orbit(&prm, &orbit);
         f.advance(0.0, t_end, &orbit).unwrap();
         let o = f.outputs();
@@ -46,7 +60,10 @@ fn temporal_order_on_a_whirl_orbit() {
         let d1 = (fs[i][0] - fs[i + 1][0]).hypot(fs[i][1] - fs[i + 1][1]);
         let d2 = (fs[i + 1][0] - fs[i + 2][0]).hypot(fs[i + 1][1] - fs[i + 2][1]);
         orders.push((d1 / d2).log2());
-        println!("h = {:.1e} s: F = {:?} N, |F_h - F_h/2| = {d1:.3e} N", hs[i], fs[i]);
+        println!(
+            "h = {:.1e} s: F = {:?} N, |F_h - F_h/2| = {d1:.3e} N",
+            hs[i], fs[i]
+        );
     }
     println!("observed temporal orders (BDF2, fixed step): {orders:?}");
     let last = *orders.last().unwrap();
@@ -55,7 +72,11 @@ fn temporal_order_on_a_whirl_orbit() {
     // Adaptive: the error follows the tolerance.
     let reference = fs[hs.len() - 1];
     for rtol in [1e-3, 1e-4, 1e-5, 1e-6] {
-        let prm = BearingParams { rtol, atol_pa: rtol * 1e5, ..base.clone() };
+        let prm = BearingParams {
+            rtol,
+            atol_pa: rtol * 1e5,
+            ..base.clone()
+        };
         let mut f = film_on_orbit(&prm, &orbit);
         let mut steps = 0;
         steps += f.advance(0.0, t_end, &orbit).unwrap().n_steps;
@@ -73,7 +94,13 @@ fn gas_mass_is_conserved() {
     // Normalization: the gross Couette inflow at the lobes' leading edges (centred value).
     let mut rels = Vec::new();
     for (ne_phi, ne_z) in [(20, 6), (40, 12)] {
-        let prm = BearingParams { rtol: 1e-7, atol_pa: 1e-3, n_elem_phi: ne_phi, n_elem_z: ne_z, ..BearingParams::paper() };
+        let prm = BearingParams {
+            rtol: 1e-7,
+            atol_pa: 1e-3,
+            n_elem_phi: ne_phi,
+            n_elem_z: ne_z,
+            ..BearingParams::paper()
+        };
         let orbit = whirl(&prm, 0.5, 400.0, 1000.0);
         let mut f = film_on_orbit(&prm, &orbit);
         let dt = 2e-6;
@@ -91,7 +118,13 @@ fn gas_mass_is_conserved() {
         let lam = prm.bearing_number(orbit(0.0).omega_rad_s);
         let h_lead = (prm.c_m + prm.dh_m) / prm.c_m;
         let gross_w = prm.p_a_pa.powi(2) * prm.c_m.powi(3) / (12.0 * prm.eta_pa_s)
-            * 2.0 * 3.0 * lam * h_lead * 0.5 * prm.b_m / prm.r_m;
+            * 2.0
+            * 3.0
+            * lam
+            * h_lead
+            * 0.5
+            * prm.b_m
+            / prm.r_m;
         let imbalance = m1 - m0 + outflow;
         let rel = imbalance.abs() / (gross_w * n as f64 * dt);
         println!(
@@ -101,7 +134,11 @@ fn gas_mass_is_conserved() {
         );
         rels.push(rel);
     }
-    println!("imbalance reduction under mesh refinement: {:.2} (order {:.2})", rels[0] / rels[1], (rels[0] / rels[1]).log2());
+    println!(
+        "imbalance reduction under mesh refinement: {:.2} (order {:.2})",
+        rels[0] / rels[1],
+        (rels[0] / rels[1]).log2()
+    );
     assert!(rels[0] < 0.05);
     // Observed reduction is ~2.4 per halving (edge-gradient flux converges at ~O(h^1.3) here).
     assert!(rels[0] / rels[1] > 2.0);
@@ -127,30 +164,70 @@ fn clone_and_serialized_state_continue_bit_identically() {
     let (oa, ob, oc) = (a.outputs(), b.outputs(), c.outputs());
     assert_eq!(oa.fx_n.to_bits(), ob.fx_n.to_bits());
     assert_eq!(oa.fy_n.to_bits(), oc.fy_n.to_bits());
-    assert!(a.pressures_rel().iter().zip(c.pressures_rel()).all(|(x, y)| x.to_bits() == y.to_bits()));
+    assert!(a
+        .pressures_rel()
+        .iter()
+        .zip(c.pressures_rel())
+        .all(|(x, y)| x.to_bits() == y.to_bits()));
 }
 
 #[test]
 fn bad_input_gives_clear_errors() {
     let prm = BearingParams::paper();
     for (bad, name) in [
-        (BearingParams { c_m: 0.0, ..prm.clone() }, "C"),
-        (BearingParams { phi_t_rad: 2.5, ..prm.clone() }, "phi_t"),
-        (BearingParams { n_elem_phi: 2, ..prm.clone() }, "n_elem_phi"),
-        (BearingParams { eta_pa_s: f64::NAN, ..prm.clone() }, "eta"),
-        (BearingParams { dh_m: 1e-6, ..BearingParams::plain_bore() }, "dH"),
+        (
+            BearingParams {
+                c_m: 0.0,
+                ..prm.clone()
+            },
+            "C",
+        ),
+        (
+            BearingParams {
+                phi_t_rad: 2.5,
+                ..prm.clone()
+            },
+            "phi_t",
+        ),
+        (
+            BearingParams {
+                n_elem_phi: 2,
+                ..prm.clone()
+            },
+            "n_elem_phi",
+        ),
+        (
+            BearingParams {
+                eta_pa_s: f64::NAN,
+                ..prm.clone()
+            },
+            "eta",
+        ),
+        (
+            BearingParams {
+                dh_m: 1e-6,
+                ..BearingParams::plain_bore()
+            },
+            "dH",
+        ),
     ] {
         let e = AirFilm::new(bad).unwrap_err();
         println!("{e}");
         assert!(matches!(e, FilmError::InvalidParameter { name: n, .. } if n == name));
     }
     let mut f = AirFilm::new(prm.clone()).unwrap();
-    let e = f.advance(0.0, 1e-5, &|_| JournalState::at(f64::NAN, 0.0, 100.0)).unwrap_err();
+    let e = f
+        .advance(0.0, 1e-5, &|_| JournalState::at(f64::NAN, 0.0, 100.0))
+        .unwrap_err();
     println!("{e}");
     assert!(matches!(e, FilmError::InvalidInput { what: "dx", .. }));
     // Plain bore: the journal touches the ring at eps = 1.
     let mut f = AirFilm::new(BearingParams::plain_bore()).unwrap();
-    let e = f.advance(0.0, 1e-5, &|_| JournalState::at(0.0, -1.01 * prm.c_m, 100.0)).unwrap_err();
+    let e = f
+        .advance(0.0, 1e-5, &|_| {
+            JournalState::at(0.0, -1.01 * prm.c_m, 100.0)
+        })
+        .unwrap_err();
     println!("{e}");
     assert!(matches!(e, FilmError::BeyondContactLimit { .. }));
 }
