@@ -143,8 +143,9 @@ impl BandLu {
             let bj = b[j];
             if bj != 0.0 {
                 let col = j * ldab + kv;
-                for i in 1..=km {
-                    b[j + i] -= ab[col + i] * bj;
+                // Slices + zip: no bounds checks in the hot loop.
+                for (t, &m) in b[j + 1..=j + km].iter_mut().zip(&ab[col + 1..=col + km]) {
+                    *t -= m * bj;
                 }
             }
         }
@@ -154,8 +155,9 @@ impl BandLu {
             let bj = b[j];
             if bj != 0.0 {
                 let i0 = j.saturating_sub(kv);
-                for i in i0..j {
-                    b[i] -= ab[col + kv + i - j] * bj;
+                let ucol = &ab[col + kv + i0 - j..col + kv];
+                for (t, &u) in b[i0..j].iter_mut().zip(ucol) {
+                    *t -= u * bj;
                 }
             }
         }
