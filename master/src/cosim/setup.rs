@@ -110,6 +110,9 @@ fn set_parameter(
                     ))
                 }
             };
+            if !si.is_finite() {
+                return Err(sys.error_at(value, &field, format!("value {si} is not finite")));
+            }
             sub.set_real(&[var.vr], &[si]).map_err(err)
         }
         (t, other) => Err(sys.error_at(

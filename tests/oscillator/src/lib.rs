@@ -3,7 +3,8 @@
 //! polynomial), so tests can compare with closed forms to round-off.
 //!
 //! It also has fault injection (`fault_mode`): 1 panics inside fmi2DoStep once the time passes
-//! `fault_time`, 2 returns fmi2Discard there. This is how the layer's panic containment and discard
+//! `fault_time`, 2 returns fmi2Discard there, 3 returns fmi2Discard for any step longer than
+//! `fault_time` seconds (a model that needs smaller communication steps: tests the master's retry). This is how the layer's panic containment and discard
 //! handling are tested through the real C ABI.
 
 use fmi2::{DefaultExperiment, Inputs, Log, Model, ModelInfo, StepOutcome, Store, Variable};
@@ -91,9 +92,9 @@ impl Model for Oscillator {
                     "fault_mode",
                     vr::FAULT_MODE,
                     0,
-                    "0 none, 1 panic in doStep, 2 fmi2Discard in doStep",
+                    "0 none, 1 panic in doStep after fault_time, 2 fmi2Discard after fault_time, 3 fmi2Discard for steps longer than fault_time",
                 )
-                .range(Some(0.0), Some(2.0)),
+                .range(Some(0.0), Some(3.0)),
                 Variable::integer_output("steps", vr::STEPS, "number of completed steps"),
             ],
             log_categories: vec![("logSteps", "one line per step")],
@@ -128,6 +129,12 @@ impl Model for Oscillator {
         if self.fault_mode == 2 && t + h > self.fault_time {
             return StepOutcome::Discard {
                 reason: "injected discard".into(),
+                reached_time: t,
+            };
+        }
+        if self.fault_mode == 3 && h > self.fault_time {
+            return StepOutcome::Discard {
+                reason: format!("step {h} s longer than {} s", self.fault_time),
                 reached_time: t,
             };
         }
