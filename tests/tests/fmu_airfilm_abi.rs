@@ -1,0 +1,214 @@
+//! `airfilm.fmu` through the C ABI: the same numbers as the library, input polynomials, two
+//! instances, states, and clear refusals of bad parameters and inputs.
+
+use fmi2::importer::Slave;
+use fmi2::Status;
+use fmu_airfilm::shell::vr;
+use fmu_airfilm::{AirFilm, BearingParams, JournalState};
+use integration_tests::{initialized, load, LogBook};
+use std::f64::consts::TAU;
+
+const OMEGA: f64 = TAU * 1000.0;
+const WHIRL: f64 = TAU * 400.0;
+const R: f64 = 0.3 * 20e-6;
+
+/// A circular whirl orbit of radius R about (0, -R/2).
+fn orbit(t: f64) -> JournalState {
+    JournalState {
+        dx_m: R * (WHIRL * t).cos(),
+        dy_m: -R / 2.0 + R * (WHIRL * t).sin(),
+        vx_m_s: -R * WHIRL * (WHIRL * t).sin(),
+        vy_m_s: R * WHIRL * (WHIRL * t).cos(),
+        omega_rad_s: OMEGA,
+    }
+}
+
+fn set_inputs(s: &Slave, t: f64) {
+    let j = orbit(t);
+    let (c, sn) = ((WHIRL * t).cos(), (WHIRL * t).sin());
+    s.set_real(
+        &[vr::DX, vr::DY, vr::VX, vr::VY, vr::OMEGA],
+        &[j.dx_m, j.dy_m, j.vx_m_s, j.vy_m_s, j.omega_rad_s],
+    )
+    .unwrap();
+    // First and second derivatives of the orbit: the FMU follows the Taylor polynomial inside the step.
+    let w = WHIRL;
+    s.set_real_input_derivatives(
+        &[
+            vr::DX,
+            vr::DY,
+            vr::VX,
+            vr::VY,
+            vr::DX,
+            vr::DY,
+            vr::VX,
+            vr::VY,
+        ],
+        &[1, 1, 1, 1, 2, 2, 2, 2],
+        &[
+            -R * w * sn,
+            R * w * c,
+            -R * w * w * c,
+            -R * w * w * sn,
+            -R * w * w * c,
+            -R * w * w * sn,
+            R * w * w * w * sn,
+            -R * w * w * w * c,
+        ],
+    )
+    .unwrap();
+}
+
+fn forces(s: &Slave) -> [f64; 2] {
+    let mut f = [0.0; 2];
+    s.get_real(&[vr::FX, vr::FY], &mut f).unwrap();
+    f
+}
+
+fn start(fmu: &fmi2::importer::Fmu, book: &LogBook, name: &str) -> Slave {
+    initialized(fmu, name, book, |s| set_inputs(s, 0.0))
+}
+
+#[test]
+fn fmu_matches_the_library_on_a_whirl_orbit() {
+    let fmu = load("airfilm");
+    let book = LogBook::default();
+    let s = start(&fmu, &book, "film");
+    let h = 1e-5;
+    let n = 40;
+    for k in 0..n {
+        let t = k as f64 * h;
+        set_inputs(&s, t);
+        s.do_step(t, h).unwrap();
+    }
+    // The library driven by the same second-order Taylor polynomials of the orbit.
+    let mut film = AirFilm::new(BearingParams::paper()).unwrap();
+    film.set_pressures_rel(0.0, orbit(0.0), &vec![1.0; film.pressures_rel().len()])
+        .unwrap();
+    for k in 0..n {
+        let t0 = k as f64 * h;
+        let j0 = orbit(t0);
+        let taylor = move |t: f64| {
+            let s = t - t0;
+            let (c, sn, w) = ((WHIRL * t0).cos(), (WHIRL * t0).sin(), WHIRL);
+            JournalState {
+                dx_m: j0.dx_m + s * (-R * w * sn) + s * s / 2.0 * (-R * w * w * c),
+                dy_m: j0.dy_m + s * (R * w * c) + s * s / 2.0 * (-R * w * w * sn),
+                vx_m_s: j0.vx_m_s + s * (-R * w * w * c) + s * s / 2.0 * (R * w * w * w * sn),
+                vy_m_s: j0.vy_m_s + s * (-R * w * w * sn) + s * s / 2.0 * (-R * w * w * w * c),
+                omega_rad_s: OMEGA,
+            }
+        };
+        film.advance(t0, h, &taylor).unwrap();
+    }
+    let lib = film.outputs();
+    let f = forces(&s);
+    println!(
+        "after {n} steps: FMU F = {f:?} N, library F = [{}, {}] N",
+        lib.fx_n, lib.fy_n
+    );
+    assert!(
+        (f[0] - lib.fx_n).abs() <= 1e-9 * lib.fx_n.abs().max(1.0)
+            && (f[1] - lib.fy_n).abs() <= 1e-9 * lib.fy_n.abs().max(1.0)
+    );
+    // The film pushes the journal back towards the centre (negative radial component).
+    let j = orbit(n as f64 * h);
+    assert!(
+        f[0] * j.dx_m + f[1] * j.dy_m < 0.0,
+        "the film force must have a restoring radial component"
+    );
+    let mut d = [0.0; 2];
+    s.get_real_output_derivatives(&[vr::FX, vr::FY], &[1, 1], &mut d)
+        .unwrap();
+    assert!(d[0].is_finite() && d[1].is_finite() && d != [0.0, 0.0]);
+}
+
+#[test]
+fn two_instances_and_state_round_trips_are_bit_identical() {
+    let fmu = load("airfilm");
+    let book = LogBook::default();
+    let a = start(&fmu, &book, "a");
+    let b = start(&fmu, &book, "b");
+    let h = 1e-5;
+    let mut saved = None;
+    let mut reference = vec![];
+    for k in 0..20 {
+        let t = k as f64 * h;
+        if k == 10 {
+            let st = a.get_state().unwrap();
+            saved = Some(a.serialize_state(&st).unwrap());
+        }
+        for s in [&a, &b] {
+            set_inputs(s, t);
+            s.do_step(t, h).unwrap();
+        }
+        assert_eq!(forces(&a).map(f64::to_bits), forces(&b).map(f64::to_bits));
+        if k >= 10 {
+            reference.push(forces(&a).map(f64::to_bits));
+        }
+    }
+    let st = b.deserialize_state(&saved.unwrap()).unwrap();
+    b.set_state(&st).unwrap();
+    for k in 10..20 {
+        let t = k as f64 * h;
+        set_inputs(&b, t);
+        b.do_step(t, h).unwrap();
+        assert_eq!(forces(&b).map(f64::to_bits), reference[k - 10], "step {k}");
+    }
+}
+
+fn exit_init_fails(set: impl FnOnce(&Slave), reason: &str) {
+    let fmu = load("airfilm");
+    let book = LogBook::default();
+    let s = fmu.instantiate("bad", false, book.handler()).unwrap();
+    s.setup_experiment(None, 0.0, None).unwrap();
+    s.enter_initialization_mode().unwrap();
+    set(&s);
+    assert_eq!(
+        s.exit_initialization_mode().unwrap_err().status,
+        Status::Error
+    );
+    assert!(
+        book.contains(reason),
+        "expected '{reason}' in {:?}",
+        book.0.lock().unwrap()
+    );
+}
+
+#[test]
+fn non_physical_parameters_are_refused_with_a_reason() {
+    exit_init_fails(|s| s.set_real(&[vr::C], &[0.0]).unwrap(), "C");
+    exit_init_fails(|s| s.set_real(&[vr::C], &[-1e-6]).unwrap(), "C");
+    exit_init_fails(|s| s.set_real(&[vr::PHI_T], &[2.5]).unwrap(), "phi_t");
+    exit_init_fails(
+        |s| s.set_integer(&[vr::N_ELEM_PHI], &[1]).unwrap(),
+        "n_elem_phi",
+    );
+    // A journal already beyond the contact limit (gap closed) at the start.
+    exit_init_fails(
+        |s| s.set_real(&[vr::DY], &[-100e-6]).unwrap(),
+        "contact limit",
+    );
+}
+
+#[test]
+fn bad_inputs_are_refused() {
+    let fmu = load("airfilm");
+    let book = LogBook::default();
+    let s = start(&fmu, &book, "film");
+    assert!(s.set_real(&[vr::DX], &[f64::NAN]).is_err());
+    assert!(s.set_real(&[vr::OMEGA], &[f64::INFINITY]).is_err());
+    // Driving the journal into the ring within a step is an error with the reason, not a NaN.
+    s.set_real(&[vr::DY], &[-10e-6]).unwrap();
+    s.set_real_input_derivatives(&[vr::DY], &[1], &[-100.0])
+        .unwrap();
+    let e = s.do_step(0.0, 1e-5).unwrap_err();
+    assert!(matches!(e.status, Status::Error | Status::Discard));
+    assert!(
+        book.contains("contact limit") || book.contains("Newton"),
+        "{:?}",
+        book.0.lock().unwrap()
+    );
+    let f = forces(&s);
+    assert!(f[0].is_finite() && f[1].is_finite());
+}
