@@ -10,6 +10,7 @@
 //! Unknowns are scaled, P = p / p_a.
 
 pub mod contact;
+pub mod dynamic;
 pub mod error;
 pub mod forces;
 pub mod geometry;
