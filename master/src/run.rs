@@ -41,6 +41,8 @@ pub struct RunReport {
     /// Wall time in each subsystem's fmi2DoStep, and everything else (the master's own work).
     pub wall_per_subsystem_s: Vec<(String, f64)>,
     pub master_overhead_s: f64,
+    /// Parts of the master's own time: state saving, coupling (polynomials, get/set), thread hand-over.
+    pub master_parts_s: Vec<(String, f64)>,
 }
 
 /// Output sample index -> time; computed from the index so that times do not drift.
@@ -262,6 +264,15 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
         })
         .sum();
     report.master_overhead_s = (start.elapsed().as_secs_f64() - critical).max(0.0);
+    let tm = &built.cosim.timing;
+    report.master_parts_s = vec![
+        ("save_states".into(), tm.save_states.as_secs_f64()),
+        ("coupling".into(), tm.coupling.as_secs_f64()),
+        (
+            "parallel_handover".into(),
+            tm.parallel_overhead.as_secs_f64(),
+        ),
+    ];
 
     write_summary(opts, &built.recorded, &rows, &report)?;
     Ok(report)
@@ -321,6 +332,8 @@ fn write_summary(
         "wall_time_s": report.wall_time_s,
         "wall_in_fmus_s": report.wall_per_subsystem_s.iter().map(|(n, s)| (n.clone(), serde_json::json!(s))).collect::<serde_json::Map<_, _>>(),
         "master_overhead_s": report.master_overhead_s,
+        "master_overhead_parts_s": report.master_parts_s.iter().map(|(n, s)| (n.clone(), serde_json::json!(s))).collect::<serde_json::Map<_, _>>(),
+        "master_overhead_percent": 100.0 * report.master_overhead_s / report.wall_time_s.max(1e-12),
         "settings": opts.extra,
         "classification": serde_json::Value::Null,
         "onset_time_s": serde_json::Value::Null,

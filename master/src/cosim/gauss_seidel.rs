@@ -11,6 +11,7 @@
 //! parallel (the two air films). A discarded step rolls every FMU back to T_N (FMU states saved at
 //! each macro point) and retries the interval in two halves, down to 1/64 of the macro step.
 
+use super::parallel::StepPool;
 use super::polynomial::{taylor_derivatives, taylor_value};
 use fmi2::importer::{CallError, Fmu, FmuState, ModelDescription, Slave};
 use fmi2::{Causality, Status};
@@ -96,7 +97,7 @@ impl Subsystem {
         self.history.push_back((t, v));
     }
 
-    fn do_step(&mut self, t: f64, h: f64) -> Result<(), CallError> {
+    pub(crate) fn do_step(&mut self, t: f64, h: f64) -> Result<(), CallError> {
         let start = Instant::now();
         let r = self.slave.do_step(t, h);
         self.step_wall += start.elapsed();
@@ -136,6 +137,8 @@ pub struct CoSim {
     pub t: f64,
     pub macro_steps: u64,
     pub retries: u64,
+    pub timing: Timing,
+    pool: Option<StepPool>,
     /// Macro steps between saved FMU states when rollback is on.
     pub save_every: usize,
     saved: Option<Saved>,
@@ -144,6 +147,17 @@ pub struct CoSim {
 }
 
 const MAX_HALVINGS: u32 = 6;
+
+/// Where the master's own time goes (wall time), for the run summary.
+#[derive(Clone, Debug, Default)]
+pub struct Timing {
+    /// Saving FMU states for roll-back.
+    pub save_states: Duration,
+    /// Setting inputs (polynomials) and reading coupling outputs.
+    pub coupling: Duration,
+    /// Parallel groups: wall time beyond the slowest member (thread hand-over).
+    pub parallel_overhead: Duration,
+}
 
 /// The last saved point: time, coupling histories, and the steps taken since (for the replay).
 struct Saved {
@@ -182,6 +196,8 @@ impl CoSim {
                 groups
             }
         };
+        let largest = groups.iter().map(Vec::len).max().unwrap_or(1);
+        let pool = (parallel && largest > 1).then(|| StepPool::new(largest));
         let mut c = CoSim {
             subs,
             groups,
@@ -193,7 +209,9 @@ impl CoSim {
             t: 0.0,
             macro_steps: 0,
             retries: 0,
-            save_every: 50,
+            timing: Timing::default(),
+            pool,
+            save_every: 200,
             saved: None,
             _fmus: fmus,
         };
@@ -299,6 +317,7 @@ impl CoSim {
         let mut stepped = vec![false; self.subs.len()];
         for g in 0..self.groups.len() {
             let group = self.groups[g].clone();
+            let coupling = Instant::now();
             for &i in &group {
                 self.set_inputs(i, t, h, &stepped)
                     .map_err(|error| StepError {
@@ -307,6 +326,8 @@ impl CoSim {
                         t_s: t,
                     })?;
             }
+            self.timing.coupling += coupling.elapsed();
+            let wall = Instant::now();
             let mut members: Vec<&mut Subsystem> = self
                 .subs
                 .iter_mut()
@@ -314,32 +335,24 @@ impl CoSim {
                 .filter(|(i, _)| group.contains(i))
                 .map(|(_, s)| s)
                 .collect();
-            let results: Vec<(String, Result<(), CallError>)> =
-                if self.parallel && members.len() > 1 {
-                    let mut results: Vec<Option<Result<(), CallError>>> =
-                        (0..members.len()).map(|_| None).collect();
-                    rayon::scope(|scope| {
-                        let mut slots = results.iter_mut();
-                        let mut iter = members.iter_mut();
-                        let first = iter.next().map(|m| (m, slots.next().unwrap()));
-                        for (m, slot) in iter.zip(slots) {
-                            scope.spawn(move |_| *slot = Some(m.do_step(t, h)));
-                        }
-                        if let Some((m, slot)) = first {
-                            *slot = Some(m.do_step(t, h));
-                        }
-                    });
-                    members
-                        .iter()
-                        .map(|m| m.name.clone())
-                        .zip(results.into_iter().map(|r| r.expect("every task ran")))
-                        .collect()
-                } else {
-                    members
-                        .iter_mut()
-                        .map(|m| (m.name.clone(), m.do_step(t, h)))
-                        .collect()
-                };
+            let before: Vec<Duration> = members.iter().map(|m| m.step_wall).collect();
+            let results: Vec<Result<(), CallError>> = match &self.pool {
+                Some(pool) if members.len() > 1 => pool.step(&mut members, t, h),
+                _ => members.iter_mut().map(|m| m.do_step(t, h)).collect(),
+            };
+            // Time the group took beyond its slowest member: hand-over to and from the workers.
+            let slowest = members
+                .iter()
+                .zip(&before)
+                .map(|(m, b)| m.step_wall - *b)
+                .max()
+                .unwrap_or_default();
+            self.timing.parallel_overhead += wall.elapsed().saturating_sub(slowest);
+            let results: Vec<(String, Result<(), CallError>)> = group
+                .iter()
+                .map(|&i| self.subs[i].name.clone())
+                .zip(results)
+                .collect();
             for (name, r) in results {
                 r.map_err(|error| StepError {
                     subsystem: name,
@@ -347,6 +360,7 @@ impl CoSim {
                     t_s: t,
                 })?;
             }
+            let coupling = Instant::now();
             for &i in &group {
                 let v = self.subs[i].read_coupling().map_err(|error| StepError {
                     subsystem: self.subs[i].name.clone(),
@@ -356,12 +370,14 @@ impl CoSim {
                 self.subs[i].push_history(t + h, v);
                 stepped[i] = true;
             }
+            self.timing.coupling += coupling.elapsed();
         }
         self.t = t + h;
         Ok(())
     }
 
     fn save_states(&mut self) -> Result<(), StepError> {
+        let start = Instant::now();
         for s in &mut self.subs {
             let r = match &mut s.state {
                 Some(st) => s.slave.update_state(st),
@@ -378,6 +394,7 @@ impl CoSim {
             history: self.subs.iter().map(|s| s.history.clone()).collect(),
             replay: Vec::with_capacity(self.save_every),
         });
+        self.timing.save_states += start.elapsed();
         Ok(())
     }
 

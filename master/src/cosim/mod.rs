@@ -3,6 +3,7 @@
 //! (`polynomial.rs`).
 
 pub mod gauss_seidel;
+pub mod parallel;
 pub mod polynomial;
 pub mod setup;
 
