@@ -14,7 +14,7 @@
 use super::parallel::StepPool;
 use super::polynomial::{taylor_derivatives, taylor_value};
 use fmi2::importer::{CallError, Fmu, FmuState, ModelDescription, Slave};
-use fmi2::{Causality, Status};
+use fmi2::Status;
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 
@@ -526,22 +526,5 @@ impl CoSim {
         }
         self.t = t;
         Ok(())
-    }
-
-    /// Checks every input is connected or intentionally left at its start value (diagnostic).
-    pub fn unconnected_inputs(&self, mds: &[&ModelDescription]) -> Vec<String> {
-        let mut out = vec![];
-        for (s, md) in self.subs.iter().zip(mds) {
-            for v in md
-                .variables
-                .iter()
-                .filter(|v| v.causality == Causality::Input)
-            {
-                if !s.inputs.iter().any(|l| l.to_vr == v.vr) {
-                    out.push(format!("{}.{}", s.name, v.name));
-                }
-            }
-        }
-        out
     }
 }
