@@ -1,6 +1,8 @@
 //! `airring modal`: eigenfrequencies and mode shapes of the rotor on linear film springs
 //! (paper Section 2.3), at one or more speeds (Campbell data), printed and written to modal.json.
 
+use crate::plot::axes::Axes;
+use crate::plot::canvas::{Canvas, Rgb, Role};
 use fmu_rotor::linear::{lateral_matrices, modes, Whirl};
 use fmu_rotor::{FilmCoefficients, RotorParams};
 use std::path::Path;
@@ -67,7 +69,87 @@ pub fn modal(
             serde_json::to_string_pretty(&v).unwrap(),
         )
         .map_err(|e| e.to_string())?;
-        println!("wrote {}", dir.join("modal.json").display());
+        let files = campbell(&v)
+            .save(dir, "campbell")
+            .map_err(|e| e.to_string())?;
+        println!(
+            "wrote {} and {}",
+            dir.join("modal.json").display(),
+            files
+                .iter()
+                .map(|f| f.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
     }
     Ok(v)
+}
+
+/// Campbell diagram of the undamped modes: one line per mode rank (sorted by frequency at each
+/// speed), each segment red for forward and blue for backward whirl at its end.
+fn campbell(v: &serde_json::Value) -> Canvas {
+    let table = v["campbell"].as_array().cloned().unwrap_or_default();
+    let speed = |row: &serde_json::Value| row["speed_hz"].as_f64().unwrap_or(0.0);
+    let freqs = |row: &serde_json::Value| -> Vec<(f64, bool)> {
+        row["modes"]
+            .as_array()
+            .map(|m| {
+                m.iter()
+                    .map(|m| {
+                        (
+                            m["freq_hz"].as_f64().unwrap_or(0.0),
+                            m["whirl"] == "forward",
+                        )
+                    })
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    let s_max = table.iter().map(speed).fold(0.0, f64::max);
+    let s_min = table.iter().map(speed).fold(s_max, f64::min);
+    let f_max = table
+        .iter()
+        .flat_map(|r| freqs(r).into_iter().map(|f| f.0))
+        .fold(1.0, f64::max);
+    // A single speed still gets a visible short tick per mode.
+    let pad = if s_max > s_min { 0.0 } else { 10.0 };
+    let (w, h) = (900, 560);
+    let mut c = Canvas::new(w, h);
+    let ax = Axes::standard(w, h, (s_min - pad, s_max + pad), (0.0, 1.1 * f_max));
+    ax.draw(
+        &mut c,
+        "Campbell diagram (rotor on linear film springs, undamped)",
+        "rotor speed [Hz]",
+        "eigenfrequency [Hz]",
+    );
+    let n = table.iter().map(|r| freqs(r).len()).min().unwrap_or(0);
+    let segments: Vec<(&serde_json::Value, &serde_json::Value)> = if table.len() == 1 {
+        vec![(&table[0], &table[0])]
+    } else {
+        table.windows(2).map(|p| (&p[0], &p[1])).collect()
+    };
+    for k in 0..n {
+        for (a, b) in &segments {
+            let (fa, fb) = (freqs(a)[k], freqs(b)[k]);
+            let (xa, xb) = if a == b {
+                (speed(a) - pad / 2.0, speed(a) + pad / 2.0)
+            } else {
+                (speed(a), speed(b))
+            };
+            let colour = if fb.1 { Rgb::RED } else { Rgb::BLUE };
+            c.polyline(
+                ax.map_all([(xa, fa.0), (xb, fb.0)]),
+                colour,
+                1.6,
+                false,
+                Role::Series,
+                &format!("mode {}", k + 1),
+            );
+        }
+    }
+    ax.legend(
+        &mut c,
+        &[("forward whirl", Rgb::RED), ("backward whirl", Rgb::BLUE)],
+    );
+    c
 }
