@@ -8,4 +8,5 @@ pub mod output;
 pub mod plot;
 pub mod run;
 pub mod runup;
+pub mod stability;
 pub mod system;

@@ -124,6 +124,8 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// Linear stability: static equilibrium, Campbell table with damping, threshold speed.
+    Stability(master::stability::cli::StabilityArgs),
 }
 
 #[derive(clap::Args, Clone)]
@@ -342,6 +344,9 @@ fn main() -> ExitCode {
             out,
         } => master::modal::modal(&speed, c, d, film_stiffness, m_r, out.as_deref())
             .map(|_| ExitCode::SUCCESS),
+        Command::Stability(args) => {
+            master::stability::cli::run_cli(&args).map(|_| ExitCode::SUCCESS)
+        }
     })();
     match result {
         Ok(code) => code,

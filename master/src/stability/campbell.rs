@@ -1,0 +1,166 @@
+//! Eigenvalues of the whole linearized system at one speed, with frequency-dependent films.
+//!
+//! The film impedance Z(nu) = K(nu) + i nu D(nu) is evaluated on a grid of whirl frequencies
+//! (every `GRID_HZ`, lazily: only the grid cells the modes visit) and interpolated linearly in
+//! between; this is the documented approximation (Z varies on the scale of the film's inverse
+//! time constants, ~kHz, so a 50 Hz grid changes eigenvalues by far less than their own spread).
+//! Each mode is then made self-consistent: starting from the modes with the static film
+//! coefficients, the k-th mode (by frequency) of the system with the films taken at nu must have
+//! Im(lambda) = nu: a scalar equation in nu per mode rank, solved by fixed-point then secant
+//! steps to 1e-6 relative. A conjugate pair (nu < 0) sees the conjugate impedance,
+//! so K(|nu|), D(|nu|) serve both whirl directions.
+
+use super::equilibrium::SolvedBearing;
+use fmu_rotor::linear::{lateral_matrices, modes, Mode, Whirl};
+use fmu_rotor::{FilmCoefficients, RotorParams};
+use serde::Serialize;
+use std::collections::HashMap;
+use std::f64::consts::TAU;
+
+/// Spacing of the frequency grid of the film coefficients [Hz].
+pub const GRID_HZ: f64 = 50.0;
+const MAX_ITERS: usize = 60;
+
+/// Lazily filled table of one film's coefficients on the frequency grid.
+pub struct ImpedanceTable<'a> {
+    bearing: &'a SolvedBearing,
+    table: HashMap<usize, FilmCoefficients>,
+}
+
+impl<'a> ImpedanceTable<'a> {
+    pub fn new(bearing: &'a SolvedBearing) -> Self {
+        ImpedanceTable {
+            bearing,
+            table: HashMap::new(),
+        }
+    }
+
+    fn node(&mut self, i: usize) -> Result<FilmCoefficients, String> {
+        if let Some(c) = self.table.get(&i) {
+            return Ok(*c);
+        }
+        let (k, d) = self
+            .bearing
+            .lin
+            .impedance(TAU * GRID_HZ * i as f64)
+            .map_err(|e| e.to_string())?;
+        let c = FilmCoefficients {
+            k_n_m: k,
+            d_n_s_m: d,
+        };
+        self.table.insert(i, c);
+        Ok(c)
+    }
+
+    /// K and D at whirl frequency `nu_hz` (linear interpolation on the grid).
+    pub fn at(&mut self, nu_hz: f64) -> Result<FilmCoefficients, String> {
+        let x = nu_hz.abs() / GRID_HZ;
+        let i = x.floor() as usize;
+        let w = x - i as f64;
+        let a = self.node(i)?;
+        if w == 0.0 {
+            return Ok(a);
+        }
+        let b = self.node(i + 1)?;
+        let mut c = a;
+        for r in 0..2 {
+            for s in 0..2 {
+                c.k_n_m[r][s] += w * (b.k_n_m[r][s] - a.k_n_m[r][s]);
+                c.d_n_s_m[r][s] += w * (b.d_n_s_m[r][s] - a.d_n_s_m[r][s]);
+            }
+        }
+        Ok(c)
+    }
+
+    /// Number of frequencies evaluated so far.
+    pub fn evaluations(&self) -> usize {
+        self.table.len()
+    }
+}
+
+/// One self-consistent mode.
+#[derive(Clone, Debug, Serialize)]
+pub struct ModeResult {
+    pub freq_hz: f64,
+    /// Re(lambda) [1/s]; > 0 is unstable.
+    pub growth_per_s: f64,
+    pub damping_ratio: f64,
+    /// Logarithmic decrement 2 pi zeta / sqrt(1 - zeta^2) = -2 pi Re / Im.
+    pub log_decrement: f64,
+    pub whirl: String,
+    /// Journal / ring orbit sizes and the node, from `ModeShape::describe`.
+    pub description: String,
+    /// Iterations of nu = Im(lambda).
+    pub iterations: usize,
+}
+
+fn result_of(m: &Mode, iterations: usize) -> ModeResult {
+    let lam = m.eigenvalue;
+    ModeResult {
+        freq_hz: m.freq_hz,
+        growth_per_s: lam.re,
+        damping_ratio: m.damping_ratio,
+        log_decrement: -TAU * lam.re / lam.im,
+        whirl: match m.whirl {
+            Whirl::Forward => "forward".into(),
+            Whirl::Backward => "backward".into(),
+        },
+        description: m.shape.describe(),
+        iterations,
+    }
+}
+
+fn modes_with(
+    rotor: &RotorParams,
+    omega_rad_s: f64,
+    tables: &mut [ImpedanceTable; 2],
+    nu_hz: f64,
+) -> Result<Vec<Mode>, String> {
+    let films = [tables[0].at(nu_hz)?, tables[1].at(nu_hz)?];
+    let lm = lateral_matrices(rotor, omega_rad_s, &films);
+    modes(&lm).map_err(|e| e.to_string())
+}
+
+/// All modes at `omega_rad_s`, each with film coefficients at its own frequency, sorted by frequency.
+pub fn system_modes(
+    rotor: &RotorParams,
+    omega_rad_s: f64,
+    bearings: &[SolvedBearing; 2],
+) -> Result<Vec<ModeResult>, String> {
+    let mut tables = [
+        ImpedanceTable::new(&bearings[0]),
+        ImpedanceTable::new(&bearings[1]),
+    ];
+    let start = modes_with(rotor, omega_rad_s, &mut tables, 0.0)?;
+    let mut out = Vec::with_capacity(start.len());
+    for (rank, m0) in start.iter().enumerate() {
+        // Mode `rank` (by frequency) of A(nu) defines g(nu) = Im(lambda_rank(nu)) / 2 pi - nu; its
+        // root is the self-consistent mode. Fixed-point steps, then secant steps (ranks keep two
+        // starting modes from converging onto the same eigenvalue).
+        let f_of = |tables: &mut [ImpedanceTable; 2], nu: f64| -> Result<Mode, String> {
+            let ms = modes_with(rotor, omega_rad_s, tables, nu)?;
+            ms.get(rank)
+                .cloned()
+                .ok_or_else(|| format!("mode {rank} lost at nu = {nu} Hz"))
+        };
+        let mut nu = m0.freq_hz;
+        let mut current = f_of(&mut tables, nu)?;
+        let mut g = current.freq_hz - nu;
+        let mut prev: Option<(f64, f64)> = None;
+        let mut iterations = 1;
+        while g.abs() > 1e-6 * nu.abs() + 1e-6 && iterations < MAX_ITERS {
+            let next = match prev {
+                Some((nu0, g0)) if g != g0 && iterations > 2 => nu - g * (nu - nu0) / (g - g0),
+                _ => nu + g,
+            };
+            prev = Some((nu, g));
+            nu = next.max(0.0);
+            current = f_of(&mut tables, nu)?;
+            g = current.freq_hz - nu;
+            iterations += 1;
+        }
+        out.push(result_of(&current, iterations));
+    }
+    out.sort_by(|a, b| a.freq_hz.total_cmp(&b.freq_hz));
+    Ok(out)
+}

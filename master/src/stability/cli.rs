@@ -1,0 +1,121 @@
+//! `airring stability`: flags (as the run-up's), the printed Campbell table, stability.json and
+//! the diagrams.
+
+use super::{analyse, parse_speeds, StabilityReport};
+use crate::runup::RunupSettings;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Clone, Debug)]
+pub struct StabilityArgs {
+    /// Paper Section 3 parameter set: path1 (c = 1000 N/mm), path2a (500 N/mm), path2b (100 N/mm, 150 g rings).
+    #[arg(long, default_value = "path1")]
+    pub preset: String,
+    /// Ring mount stiffness c [N/mm] (both bearings).
+    #[arg(long)]
+    pub c: Option<f64>,
+    /// Ring mount damping d [N s/m] (both bearings).
+    #[arg(long)]
+    pub d: Option<f64>,
+    /// Ring mass m_R [g] (each ring).
+    #[arg(long)]
+    pub m_r: Option<f64>,
+    /// Nominal clearance C [um].
+    #[arg(long)]
+    pub clearance: Option<f64>,
+    /// Step height dH [um].
+    #[arg(long)]
+    pub dh: Option<f64>,
+    /// Air-film mesh per lobe, e.g. 20x6.
+    #[arg(long)]
+    pub mesh: Option<String>,
+    /// Speed grid from:to:step [Hz].
+    #[arg(long, default_value = "100:2000:50")]
+    pub speeds: String,
+    /// Output folder for stability.json and the diagrams.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// The run-up settings these flags describe (preset, then overrides).
+pub fn settings(a: &StabilityArgs) -> Result<RunupSettings, String> {
+    let mut s = RunupSettings::preset(&a.preset)?;
+    s.c_n_per_mm = a.c.unwrap_or(s.c_n_per_mm);
+    s.d_n_s_per_m = a.d.unwrap_or(s.d_n_s_per_m);
+    s.m_r_g = a.m_r.unwrap_or(s.m_r_g);
+    s.clearance_um = a.clearance.unwrap_or(s.clearance_um);
+    s.dh_um = a.dh.unwrap_or(s.dh_um);
+    if let Some(m) = &a.mesh {
+        let bad = || "--mesh expects NxM, e.g. 20x6".to_string();
+        let (p, z) = m.split_once('x').ok_or_else(bad)?;
+        s.n_elem_phi = p.trim().parse().map_err(|_| bad())?;
+        s.n_elem_z = z.trim().parse().map_err(|_| bad())?;
+    }
+    s.validate()?;
+    Ok(s)
+}
+
+fn print_table(s: &RunupSettings, r: &StabilityReport) {
+    println!(
+        "linear stability: c = {} N/mm, d = {} N s/m, m_R = {} g, C = {} um, dH = {} um, mesh {}x{}",
+        s.c_n_per_mm, s.d_n_s_per_m, s.m_r_g, s.clearance_um, s.dh_um, s.n_elem_phi, s.n_elem_z
+    );
+    println!("Campbell table: whirl frequency [Hz], F/B = forward/backward, damping ratio [%]");
+    print!("{:>7} {:>6} {:>6} |", "speed", "eps_C", "eps_T");
+    let n = r.speeds.first().map_or(0, |s| s.modes.len());
+    for k in 0..n {
+        print!(" {:>14}", format!("mode {}", k + 1));
+    }
+    println!();
+    for sp in &r.speeds {
+        print!(
+            "{:7.1} {:6.3} {:6.3} |",
+            sp.speed_hz, sp.bearings[0].eps, sp.bearings[1].eps
+        );
+        for m in &sp.modes {
+            let w = if m.whirl == "forward" { 'F' } else { 'B' };
+            print!(" {:6.0}{w} {:6.2}", m.freq_hz, 100.0 * m.damping_ratio);
+        }
+        println!();
+    }
+    match (&r.threshold, r.unstable_at_first_speed) {
+        (_, true) => println!("unstable already at the first speed of the range"),
+        (Some(t), _) => println!(
+            "threshold speed of instability: {:.1} Hz (+-{} Hz): {} whirl at {:.1} Hz (whirl ratio {:.3}), log decrement {:.4}; {}",
+            t.speed_hz,
+            t.tolerance_hz,
+            t.mode.whirl,
+            t.mode.freq_hz,
+            t.whirl_ratio,
+            t.mode.log_decrement,
+            t.mode.description
+        ),
+        (None, false) => println!("stable over the whole speed range"),
+    }
+    println!("wall time {:.2} s", r.wall_time_s);
+}
+
+/// Runs the command; returns the report as JSON.
+pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
+    let s = settings(a)?;
+    let speeds = parse_speeds(&a.speeds)?;
+    let r = analyse(&s, &speeds)?;
+    print_table(&s, &r);
+    let v = serde_json::json!({
+        "settings": {
+            "preset": s.preset, "c_n_per_mm": s.c_n_per_mm, "d_n_s_per_m": s.d_n_s_per_m,
+            "m_r_g": s.m_r_g, "clearance_um": s.clearance_um, "dh_um": s.dh_um,
+            "n_elem_phi": s.n_elem_phi, "n_elem_z": s.n_elem_z,
+            "nu_grid_hz": super::campbell::GRID_HZ,
+        },
+        "report": r,
+    });
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let path = dir.join("stability.json");
+        std::fs::write(&path, serde_json::to_string_pretty(&v).unwrap())
+            .map_err(|e| format!("{}: {e}", path.display()))?;
+        let figs = super::figures::save(&r, dir).map_err(|e| e.to_string())?;
+        println!("wrote {} and {} figure files", path.display(), figs.len());
+    }
+    Ok(v)
+}

@@ -1,0 +1,237 @@
+//! Linear stability analysis of the rotor in air ring bearings (beyond the paper; docs/stability.md).
+//!
+//! Per speed: the static equilibrium under gravity (`equilibrium`), the films linearized about it
+//! with frequency-dependent coefficients (fmu_airfilm::dynamic), the whole-system eigenvalues with
+//! each mode's film coefficients taken at its own whirl frequency (`campbell`). Then the threshold
+//! speed of instability by bisection between the last stable and the first unstable grid speed.
+//! `cli` is the `airring stability` command, `figures` its Campbell and damping diagrams.
+
+pub mod campbell;
+pub mod cli;
+pub mod equilibrium;
+pub mod figures;
+
+use crate::runup::RunupSettings;
+use campbell::{system_modes, ModeResult};
+use equilibrium::{journal_loads_n, solve_bearing, BearingEquilibrium, SolvedBearing};
+use fmu_airfilm::BearingParams;
+use fmu_rotor::RotorParams;
+use serde::Serialize;
+use std::f64::consts::TAU;
+
+/// Rotor and film parameters of a run-up setting (the parameters a run-up would use).
+pub fn params_of(s: &RunupSettings) -> (RotorParams, BearingParams) {
+    let mut r = RotorParams::paper();
+    r.c_c_n_m = s.c_n_per_mm * 1e3;
+    r.c_t_n_m = s.c_n_per_mm * 1e3;
+    r.d_c_n_s_m = s.d_n_s_per_m;
+    r.d_t_n_s_m = s.d_n_s_per_m;
+    r.m_r_c_kg = s.m_r_g * 1e-3;
+    r.m_r_t_kg = s.m_r_g * 1e-3;
+    let b = BearingParams {
+        c_m: s.clearance_um * 1e-6,
+        dh_m: s.dh_um * 1e-6,
+        n_elem_phi: s.n_elem_phi as usize,
+        n_elem_z: s.n_elem_z as usize,
+        ..BearingParams::paper()
+    };
+    (r, b)
+}
+
+/// Everything at one speed.
+#[derive(Clone, Debug, Serialize)]
+pub struct SpeedResult {
+    pub speed_hz: f64,
+    /// [C, T].
+    pub bearings: [BearingEquilibrium; 2],
+    /// Sorted by frequency.
+    pub modes: Vec<ModeResult>,
+}
+
+impl SpeedResult {
+    /// The least damped mode (largest Re(lambda)).
+    pub fn critical(&self) -> Option<&ModeResult> {
+        self.modes
+            .iter()
+            .max_by(|a, b| a.growth_per_s.total_cmp(&b.growth_per_s))
+    }
+    pub fn max_growth_per_s(&self) -> f64 {
+        self.critical()
+            .map_or(f64::NEG_INFINITY, |m| m.growth_per_s)
+    }
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct Threshold {
+    /// Speed where the first mode's Re(lambda) crosses 0 [Hz] (bisection to `tolerance_hz`).
+    pub speed_hz: f64,
+    pub tolerance_hz: f64,
+    /// The mode that turns unstable, just above the threshold.
+    pub mode: ModeResult,
+    /// Whirl frequency / speed.
+    pub whirl_ratio: f64,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct StabilityReport {
+    pub speeds: Vec<SpeedResult>,
+    /// None: stable over the whole speed range.
+    pub threshold: Option<Threshold>,
+    /// The first speed of the range is already unstable (threshold lies below the range).
+    pub unstable_at_first_speed: bool,
+    pub wall_time_s: f64,
+}
+
+/// Equilibrium of both bearings at `speed_hz`, optionally warm-started from another speed's.
+fn equilibria(
+    rotor: &RotorParams,
+    film: &BearingParams,
+    speed_hz: f64,
+    warm: Option<&[SolvedBearing; 2]>,
+) -> Result<[SolvedBearing; 2], String> {
+    let loads = journal_loads_n(rotor);
+    let mounts = [
+        (rotor.c_c_n_m, rotor.m_r_c_kg),
+        (rotor.c_t_n_m, rotor.m_r_t_kg),
+    ];
+    let solve = |i: usize| {
+        let start = match warm {
+            Some(w) => {
+                let j = w[i].journal;
+                ([j.dx_m, j.dy_m], Some(w[i].lin.steady()))
+            }
+            None => ([0.0, -0.2 * film.c_m], None),
+        };
+        solve_bearing(
+            film,
+            TAU * speed_hz,
+            loads[i],
+            start,
+            mounts[i].0,
+            mounts[i].1,
+            rotor.g_m_s2,
+        )
+        .map_err(|e| format!("bearing {}: {e}", ["C", "T"][i]))
+    };
+    Ok([solve(0)?, solve(1)?])
+}
+
+fn analyse_speed(
+    rotor: &RotorParams,
+    film: &BearingParams,
+    speed_hz: f64,
+    warm: Option<&[SolvedBearing; 2]>,
+) -> Result<(SpeedResult, [SolvedBearing; 2]), String> {
+    let eq = equilibria(rotor, film, speed_hz, warm)?;
+    let modes = system_modes(rotor, TAU * speed_hz, &eq)?;
+    let res = SpeedResult {
+        speed_hz,
+        bearings: [eq[0].summary.clone(), eq[1].summary.clone()],
+        modes,
+    };
+    Ok((res, eq))
+}
+
+/// Campbell data over `speeds_hz` (ascending, > 0) and the threshold speed of instability.
+pub fn analyse(s: &RunupSettings, speeds_hz: &[f64]) -> Result<StabilityReport, String> {
+    let t0 = std::time::Instant::now();
+    let (rotor, film) = params_of(s);
+    rotor.validate().map_err(|e| e.to_string())?;
+    film.validate().map_err(|e| e.to_string())?;
+    if speeds_hz.is_empty() || speeds_hz.iter().any(|f| !(f.is_finite() && *f > 0.0)) {
+        return Err("speeds must be finite and > 0 Hz".into());
+    }
+    // Independent speeds on all cores (cold-started equilibria; std threads, strided split);
+    // results keep the grid order.
+    type SpeedOut = Result<(SpeedResult, [SolvedBearing; 2]), String>;
+    let n_threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(speeds_hz.len());
+    let mut slots: Vec<Option<SpeedOut>> = (0..speeds_hz.len()).map(|_| None).collect();
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..n_threads)
+            .map(|t| {
+                let (rotor, film) = (&rotor, &film);
+                scope.spawn(move || {
+                    (t..speeds_hz.len())
+                        .step_by(n_threads)
+                        .map(|i| {
+                            let f = speeds_hz[i];
+                            let r = analyse_speed(rotor, film, f, None)
+                                .map_err(|e| format!("at {f} Hz: {e}"));
+                            (i, r)
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        for h in handles {
+            for (i, r) in h.join().expect("stability worker panicked") {
+                slots[i] = Some(r);
+            }
+        }
+    });
+    let results = slots.into_iter().flatten();
+    let mut speeds = Vec::with_capacity(speeds_hz.len());
+    let mut solved = Vec::with_capacity(speeds_hz.len());
+    for r in results {
+        let (res, eq) = r?;
+        speeds.push(res);
+        solved.push(eq);
+    }
+    let first_unstable = speeds.iter().position(|r| r.max_growth_per_s() > 0.0);
+    let mut threshold = None;
+    let unstable_at_first_speed = first_unstable == Some(0);
+    if let Some(i) = first_unstable.filter(|&i| i > 0) {
+        let tolerance_hz = 0.5;
+        let (mut lo, mut hi) = (speeds_hz[i - 1], speeds_hz[i]);
+        // Warm start from the last stable speed: equilibria move little over the bracket.
+        let mut warm: Option<[SolvedBearing; 2]> = None;
+        let mut hi_mode = speeds[i].critical().cloned();
+        while hi - lo > tolerance_hz {
+            let mid = 0.5 * (lo + hi);
+            let w = warm.as_ref().unwrap_or(&solved[i - 1]);
+            let (r, eq) = analyse_speed(&rotor, &film, mid, Some(w))?;
+            if r.max_growth_per_s() > 0.0 {
+                hi = mid;
+                hi_mode = r.critical().cloned();
+            } else {
+                lo = mid;
+                warm = Some(eq);
+            }
+        }
+        if let Some(mode) = hi_mode {
+            let speed_hz = 0.5 * (lo + hi);
+            threshold = Some(Threshold {
+                speed_hz,
+                tolerance_hz,
+                whirl_ratio: mode.freq_hz / speed_hz,
+                mode,
+            });
+        }
+    }
+    Ok(StabilityReport {
+        speeds,
+        threshold,
+        unstable_at_first_speed,
+        wall_time_s: t0.elapsed().as_secs_f64(),
+    })
+}
+
+/// "from:to:step" [Hz] -> the speed grid (inclusive of `to` within rounding).
+pub fn parse_speeds(spec: &str) -> Result<Vec<f64>, String> {
+    let bad = || format!("--speeds '{spec}': expected from:to:step in Hz, e.g. 100:2000:50");
+    let v: Vec<f64> = spec
+        .split(':')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| bad())?;
+    let [from, to, step] = v[..] else {
+        return Err(bad());
+    };
+    if !(from > 0.0 && to >= from && step > 0.0 && (to - from) / step <= 10_000.0) {
+        return Err(bad());
+    }
+    let n = ((to - from) / step + 1e-9).floor() as usize;
+    Ok((0..=n).map(|k| from + step * k as f64).collect())
+}
