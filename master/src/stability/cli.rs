@@ -59,17 +59,21 @@ fn print_table(s: &RunupSettings, r: &StabilityReport) {
         "linear stability: c = {} N/mm, d = {} N s/m, m_R = {} g, C = {} um, dH = {} um, mesh {}x{}",
         s.c_n_per_mm, s.d_n_s_per_m, s.m_r_g, s.clearance_um, s.dh_um, s.n_elem_phi, s.n_elem_z
     );
-    println!("Campbell table: whirl frequency [Hz], F/B = forward/backward, damping ratio [%]");
-    print!("{:>7} {:>6} {:>6} |", "speed", "eps_C", "eps_T");
+    println!("Campbell table: whirl frequency [Hz], F/B = forward/backward, damping ratio [%]; N = growth");
+    println!(
+        "exponent Int Re(lambda) dt accumulated along a run-up at {:.1} Hz/s",
+        r.ramp_hz_per_s
+    );
+    print!("{:>7} {:>6} {:>6} {:>6} |", "speed", "eps_C", "eps_T", "N");
     let n = r.speeds.first().map_or(0, |s| s.modes.len());
     for k in 0..n {
         print!(" {:>14}", format!("mode {}", k + 1));
     }
     println!();
-    for sp in &r.speeds {
+    for (sp, n) in r.speeds.iter().zip(&r.growth_exponent) {
         print!(
-            "{:7.1} {:6.3} {:6.3} |",
-            sp.speed_hz, sp.bearings[0].eps, sp.bearings[1].eps
+            "{:7.1} {:6.3} {:6.3} {:6.1} |",
+            sp.speed_hz, sp.bearings[0].eps, sp.bearings[1].eps, n
         );
         for m in &sp.modes {
             let w = if m.whirl == "forward" { 'F' } else { 'B' };

@@ -79,7 +79,28 @@ pub struct StabilityReport {
     pub threshold: Option<Threshold>,
     /// The first speed of the range is already unstable (threshold lies below the range).
     pub unstable_at_first_speed: bool,
+    /// Run-up ramp rate assumed by `growth_exponent` [Hz/s] (the settings' f_max / t_ramp).
+    pub ramp_hz_per_s: f64,
+    /// Per grid speed: N = Int max(0, max_k Re(lambda_k)) dt along the run-up (trapezoid on the
+    /// grid, dt = df / ramp): a perturbation grows by e^N between the threshold and that speed.
+    pub growth_exponent: Vec<f64>,
     pub wall_time_s: f64,
+}
+
+/// Accumulated growth exponent along a linear run-up (see `StabilityReport::growth_exponent`).
+pub fn growth_exponent(speeds: &[SpeedResult], ramp_hz_per_s: f64) -> Vec<f64> {
+    let mut n = 0.0;
+    let mut out = Vec::with_capacity(speeds.len());
+    for (i, s) in speeds.iter().enumerate() {
+        if i > 0 {
+            let prev = &speeds[i - 1];
+            let g0 = prev.max_growth_per_s().max(0.0);
+            let g1 = s.max_growth_per_s().max(0.0);
+            n += 0.5 * (g0 + g1) * (s.speed_hz - prev.speed_hz) / ramp_hz_per_s;
+        }
+        out.push(n);
+    }
+    out
 }
 
 /// Equilibrium of both bearings at `speed_hz`, optionally warm-started from another speed's.
@@ -210,7 +231,10 @@ pub fn analyse(s: &RunupSettings, speeds_hz: &[f64]) -> Result<StabilityReport, 
             });
         }
     }
+    let ramp_hz_per_s = s.f_max_hz / s.t_ramp_s;
     Ok(StabilityReport {
+        growth_exponent: growth_exponent(&speeds, ramp_hz_per_s),
+        ramp_hz_per_s,
         speeds,
         threshold,
         unstable_at_first_speed,
