@@ -59,7 +59,7 @@ fn wait_for(state: &AtomicU8, wanted: &[u8], park: bool) -> u8 {
             return s;
         }
         spins = spins.wrapping_add(1);
-        if spins % 1024 != 0 || start.elapsed() < SPIN {
+        if !spins.is_multiple_of(1024) || start.elapsed() < SPIN {
             std::hint::spin_loop();
         } else if park {
             std::thread::park_timeout(Duration::from_millis(5));
