@@ -251,18 +251,9 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
         .iter()
         .map(|s| (s.name.clone(), s.step_wall.as_secs_f64()))
         .collect();
-    // With parallel films the FMU times overlap; the master's own share is what is left of the
-    // wall time after the critical path (rotor + slowest film), never negative.
-    let critical: f64 = built
-        .cosim
-        .groups
-        .iter()
-        .map(|g| {
-            g.iter()
-                .map(|&i| built.cosim.subs[i].step_wall.as_secs_f64())
-                .fold(0.0, f64::max)
-        })
-        .sum();
+    // With parallel films the FMU times overlap: the FMUs' share is the critical path (per macro
+    // step, the slowest member of each group); everything else is the master's own work.
+    let critical = built.cosim.timing.critical_path.as_secs_f64();
     report.master_overhead_s = (start.elapsed().as_secs_f64() - critical).max(0.0);
     let tm = &built.cosim.timing;
     report.master_parts_s = vec![

@@ -157,6 +157,9 @@ pub struct Timing {
     pub coupling: Duration,
     /// Parallel groups: wall time beyond the slowest member (thread hand-over).
     pub parallel_overhead: Duration,
+    /// Sum over macro steps and groups of the slowest member's fmi2DoStep: the time the FMUs
+    /// themselves need on as many cores as the largest group; the rest of the wall time is the master's.
+    pub critical_path: Duration,
 }
 
 /// The last saved point: time, coupling histories, and the steps taken since (for the replay).
@@ -348,6 +351,7 @@ impl CoSim {
                 .max()
                 .unwrap_or_default();
             self.timing.parallel_overhead += wall.elapsed().saturating_sub(slowest);
+            self.timing.critical_path += slowest;
             let results: Vec<(String, Result<(), CallError>)> = group
                 .iter()
                 .map(|&i| self.subs[i].name.clone())
