@@ -9,4 +9,5 @@ pub mod plot;
 pub mod run;
 pub mod runup;
 pub mod stability;
+pub mod sweep;
 pub mod system;

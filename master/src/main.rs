@@ -104,6 +104,32 @@ enum Command {
         #[arg(long)]
         checkpoint_every: Option<f64>,
     },
+    /// A parameter study of run-ups from a study file (TOML), resumable; CSV table and bifurcation maps.
+    Sweep {
+        study: PathBuf,
+        /// Output folder (default: `runs/sweep-<study name>`).
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Run-ups at a time (default: half the cores; each run-up uses two threads).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// Run only every n-th grid point: k/n runs the points with index i where i mod n = k - 1.
+        #[arg(long)]
+        shard: Option<String>,
+        #[arg(long)]
+        quiet: bool,
+        /// Print the run-ups (name, index, flags, `airring` arguments) as JSON lines and exit.
+        #[arg(long)]
+        list: bool,
+    },
+    /// Merge the run folders of several sweep outputs (shards) into one table and map.
+    SweepMerge {
+        #[arg(required = true)]
+        dirs: Vec<PathBuf>,
+        /// Output folder (default: the first DIR).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
     /// Modal analysis of the rotor with linear film springs (paper Section 2.3).
     Modal {
         /// Rotor speed [Hz] (several: Campbell data).
@@ -264,6 +290,50 @@ fn finish(report: master::run::RunReport, out: &Path) -> ExitCode {
     }
 }
 
+fn sweep_command(
+    study_path: &Path,
+    out: Option<PathBuf>,
+    jobs: Option<usize>,
+    shard: Option<&str>,
+    quiet: bool,
+    list: bool,
+) -> Result<ExitCode, String> {
+    use master::sweep;
+    let text = std::fs::read_to_string(study_path)
+        .map_err(|e| format!("{}: {e}", study_path.display()))?;
+    let study = sweep::Study::parse(&text, study_path)?;
+    if list {
+        let shard = shard.map(sweep::parse_shard).transpose()?;
+        print!("{}", sweep::plan_json_lines(&study, shard));
+        return Ok(ExitCode::SUCCESS);
+    }
+    let opts = sweep::SweepOptions {
+        out: out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name))),
+        jobs: jobs.unwrap_or_else(sweep::default_jobs),
+        shard: shard.map(sweep::parse_shard).transpose()?,
+        exe: std::env::current_exe().map_err(|e| e.to_string())?,
+        quiet,
+        stop: stop_flag(),
+    };
+    let r = sweep::sweep(&study, &text, &opts)?;
+    eprintln!(
+        "sweep: {} runs ({} skipped as completed, {} run, {} failed) in {:.0} s wall -> {}",
+        r.total,
+        r.skipped,
+        r.ran,
+        r.failed.len(),
+        r.wall_time_s,
+        r.table.display()
+    );
+    Ok(
+        if r.failed.is_empty() && !opts.stop.load(Ordering::Relaxed) {
+            ExitCode::SUCCESS
+        } else {
+            ExitCode::FAILURE
+        },
+    )
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result: Result<ExitCode, String> = (|| match cli.command {
@@ -334,6 +404,20 @@ fn main() -> ExitCode {
             };
             let report = run(&dir.join("system.toml"), &opts, true)?;
             Ok(finish(report, &dir))
+        }
+        Command::Sweep {
+            study,
+            out,
+            jobs,
+            shard,
+            quiet,
+            list,
+        } => sweep_command(&study, out, jobs, shard.as_deref(), quiet, list),
+        Command::SweepMerge { dirs, out } => {
+            let out = out.unwrap_or_else(|| dirs[0].clone());
+            let (table, maps, n) = master::sweep::merge(&dirs, &out)?;
+            eprintln!("{n} runs -> {}, {}", table.display(), maps[0].display());
+            Ok(ExitCode::SUCCESS)
         }
         Command::Modal {
             speed,
