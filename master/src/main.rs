@@ -249,8 +249,8 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
 /// The paper's three-lobe geometry with the given clearance and step height [um].
 fn lobes(clearance_um: f64, dh_um: f64) -> master::plot::LobeGeometry {
     master::plot::LobeGeometry {
-        c_m: clearance_um * 1e-6,
-        dh_m: dh_um * 1e-6,
+        c_m: clearance_um / 1e6,
+        dh_m: dh_um / 1e6,
         ..master::plot::LobeGeometry::paper()
     }
 }

@@ -171,11 +171,13 @@ impl System {
                 let (num, unit) = split_quantity(s).ok_or_else(|| {
                     self.error_at(v, field, format!("'{s}' is not 'number unit'"))
                 })?;
-                let factor = match unit {
+                // Divide by an exact power of ten (rather than multiply by an inexact 1e-6) so
+                // that "10 us" is the double nearest to 1e-5 s, as a user typing it expects.
+                let per_second = match unit {
                     "s" | "" => 1.0,
-                    "ms" => 1e-3,
-                    "us" => 1e-6,
-                    "ns" => 1e-9,
+                    "ms" => 1e3,
+                    "us" => 1e6,
+                    "ns" => 1e9,
                     _ => {
                         return Err(self.error_at(
                             v,
@@ -184,7 +186,7 @@ impl System {
                         ))
                     }
                 };
-                num * factor
+                num / per_second
             }
             other => {
                 return Err(self.error_at(v, field, format!("expected a time, found {other}")))

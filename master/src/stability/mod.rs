@@ -29,8 +29,8 @@ pub fn params_of(s: &RunupSettings) -> (RotorParams, BearingParams) {
     r.m_r_c_kg = s.m_r_g * 1e-3;
     r.m_r_t_kg = s.m_r_g * 1e-3;
     let b = BearingParams {
-        c_m: s.clearance_um * 1e-6,
-        dh_m: s.dh_um * 1e-6,
+        c_m: s.clearance_um / 1e6,
+        dh_m: s.dh_um / 1e6,
         n_elem_phi: s.n_elem_phi as usize,
         n_elem_z: s.n_elem_z as usize,
         ..BearingParams::paper()
