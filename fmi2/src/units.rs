@@ -31,7 +31,7 @@ pub const UNITS: &[UnitDef] = &[
     UnitDef {
         name: "s",
         base: [0, 0, 1, 0, 0, 0, 0, 0],
-        display_units: &[("ms", 1e3, 0.0)],
+        display_units: &[("ms", 1e3, 0.0), ("us", 1e6, 0.0)],
     },
     UnitDef {
         name: "kg",
@@ -46,7 +46,7 @@ pub const UNITS: &[UnitDef] = &[
     UnitDef {
         name: "N",
         base: [1, 1, -2, 0, 0, 0, 0, 0],
-        display_units: &[],
+        display_units: &[("mN", 1e3, 0.0)],
     },
     UnitDef {
         name: "N/m",

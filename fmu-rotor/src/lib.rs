@@ -8,6 +8,7 @@
 
 pub mod body;
 pub mod constraint;
+pub mod disturbance;
 pub mod eigen;
 pub mod ggl;
 pub mod integrator;
@@ -18,6 +19,7 @@ pub mod rotor;
 pub mod shell;
 pub mod system;
 
+pub use disturbance::Disturbance;
 pub use integrator::StepStats;
 pub use params::{Imbalance, RotorError, RotorParams, SpeedProfile};
 pub use rotor::{

@@ -45,7 +45,7 @@ pub fn lateral_matrices(
     v0[5] = omega_rad_s;
     let nq = sys.n_coords();
     let nb = sys.bodies.len();
-    let u = [0.0; 4];
+    let u = [0.0; crate::rotor::N_INPUTS];
     let mut mb = vec![[0.0; 36]; nb];
     let mut f_plus = vec![0.0; nq];
     let mut f_minus = vec![0.0; nq];

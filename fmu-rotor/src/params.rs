@@ -1,5 +1,6 @@
 //! Parameters of the paper's rotor system (MODEL.md section 2) and the crate's error type.
 
+use crate::disturbance::Disturbance;
 use serde::{Deserialize, Serialize};
 use std::fmt;
 
@@ -83,6 +84,8 @@ pub struct RotorParams {
     pub t_ramp_s: f64,
     /// Imbalance masses: [compressor wheel, turbine wheel].
     pub imbalance: [Imbalance; 2],
+    /// Random disturbance force on the journals (the whirl seed; off by default).
+    pub disturbance: Disturbance,
     /// Relative tolerance of the integrator's local error test.
     pub rtol: f64,
     /// Absolute tolerance for coordinates [m or rad].
@@ -121,6 +124,7 @@ impl RotorParams {
             f_max_hz: 2000.0,
             t_ramp_s: 3.0,
             imbalance: [none(0.230), none(0.020)],
+            disturbance: Disturbance::OFF,
             // Displacements of interest are ~1 um (clearance 20 um): 1e-8 m is 0.05 % of C.
             rtol: 1e-4,
             atol: 1e-8,
@@ -221,6 +225,17 @@ impl RotorParams {
             if v <= 0.0 {
                 return bad(name, v, "must be > 0");
             }
+        }
+        let dist = &self.disturbance;
+        if !(dist.force_rms_n.is_finite() && dist.force_rms_n >= 0.0) {
+            return bad(
+                "disturbance force",
+                dist.force_rms_n,
+                "must be finite and >= 0",
+            );
+        }
+        if !(dist.interval_s.is_finite() && dist.interval_s > 0.0) {
+            return bad("disturbance interval", dist.interval_s, "must be > 0");
         }
         for im in &self.imbalance {
             for (name, v) in [

@@ -17,6 +17,8 @@ use serde::{Deserialize, Serialize};
 pub const ROTOR: usize = 0;
 pub const RING_C: usize = 1;
 pub const RING_T: usize = 2;
+/// Integrator inputs: the two film forces (x, y each), then the four disturbance components.
+pub const N_INPUTS: usize = 4 + crate::disturbance::CHANNELS;
 
 /// Air-film forces ON the journals [N] (the ring gets the opposite force).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -185,6 +187,20 @@ pub fn build_system(p: &RotorParams, films: Option<&[FilmCoefficients; 2]>) -> M
             input: 2,
             reaction_body: Some(RING_T),
         },
+        // The disturbance acts on the journals only (no reaction on the rings: it comes from
+        // outside the rotor-bearing system).
+        ForceElement::InputForce {
+            body: ROTOR,
+            s_m: s_c,
+            input: 4,
+            reaction_body: None,
+        },
+        ForceElement::InputForce {
+            body: ROTOR,
+            s_m: s_t,
+            input: 6,
+            reaction_body: None,
+        },
     ];
     if let Some(f) = films {
         for (i, (ring, s)) in [(RING_C, s_c), (RING_T, s_t)].into_iter().enumerate() {
@@ -257,7 +273,7 @@ impl Rotor {
             h_min_s: 1e-14,
             error_control: true,
         };
-        let integ = GglBdf::new(sys, tol, 0.0, x0, v0, vec![0.0; 4])?;
+        let integ = GglBdf::new(sys, tol, 0.0, x0, v0, vec![0.0; N_INPUTS])?;
         let profile = SpeedProfile {
             f_max_hz: params.f_max_hz,
             t_ramp_s: params.t_ramp_s,
@@ -299,6 +315,7 @@ impl Rotor {
                 "step size h = {h_s} s must be positive and finite"
             )));
         }
+        let disturbance = self.params.disturbance;
         let mut inputs = |tt: f64, u: &mut [f64]| -> Result<(), RotorError> {
             let f = forces(tt);
             if !f.is_finite() {
@@ -306,7 +323,8 @@ impl Rotor {
                     "non-finite bearing force at t = {tt} s: {f:?}"
                 )));
             }
-            u.copy_from_slice(&[f.fc_x_n, f.fc_y_n, f.ft_x_n, f.ft_y_n]);
+            u[..4].copy_from_slice(&[f.fc_x_n, f.fc_y_n, f.ft_x_n, f.ft_y_n]);
+            u[4..].copy_from_slice(&disturbance.forces_n(tt));
             Ok(())
         };
         self.integ.advance_to(t0_s + h_s, &mut inputs)

@@ -3,7 +3,7 @@
 //!
 //! Value references are part of the product (third-party masters store them): append, never renumber.
 
-use crate::{BearingForces, Imbalance, Rotor, RotorError, RotorParams};
+use crate::{BearingForces, Disturbance, Imbalance, Rotor, RotorError, RotorParams};
 use fmi2::{DefaultExperiment, Inputs, Log, Model, ModelInfo, StepOutcome, Store, Variable};
 use serde::{Deserialize, Serialize};
 
@@ -56,10 +56,14 @@ pub mod vr {
     pub const SPIN_ANGLE: u32 = 49;
     pub const DRIFT_POS: u32 = 50;
     pub const DRIFT_VEL: u32 = 51;
+    /// Random journal disturbance (see `crate::disturbance`).
+    pub const DIST_FORCE: u32 = 52;
+    pub const DIST_INTERVAL: u32 = 53;
     /// Integer value references.
     pub const N_STEPS: u32 = 0;
     pub const N_REJECTED: u32 = 1;
     pub const N_NEWTON: u32 = 2;
+    pub const DIST_SEED: u32 = 3;
 }
 
 const DOC: &str = include_str!("shell_doc.html");
@@ -97,6 +101,12 @@ fn params_from(s: &Store) -> RotorParams {
     p.rtol = s.real(vr::RTOL);
     p.atol = s.real(vr::ATOL);
     p.h_max_s = s.real(vr::H_MAX);
+    p.disturbance = Disturbance {
+        force_rms_n: s.real(vr::DIST_FORCE),
+        interval_s: s.real(vr::DIST_INTERVAL),
+        // Any Integer is a valid seed; its bit pattern is used as is.
+        seed: s.integer(vr::DIST_SEED) as u32 as u64,
+    };
     p
 }
 
@@ -432,6 +442,29 @@ impl Model for RotorFmu {
                 "rejected internal steps so far",
             ),
             V::integer_output("n_newton", vr::N_NEWTON, "Newton iterations so far"),
+            V::real_parameter(
+                "disturbance_force",
+                vr::DIST_FORCE,
+                p.disturbance.force_rms_n,
+                "N",
+                "standard deviation of a random force on each journal, x and y (seed of whirl; 0 = off)",
+            )
+            .display("mN")
+            .range(Some(0.0), None),
+            V::real_parameter(
+                "disturbance_interval",
+                vr::DIST_INTERVAL,
+                p.disturbance.interval_s,
+                "s",
+                "grid spacing of the random disturbance values (bandwidth about 1/(2 interval))",
+            )
+            .display("us"),
+            V::integer_parameter(
+                "disturbance_seed",
+                vr::DIST_SEED,
+                p.disturbance.seed as i32,
+                "seed of the disturbance generator (other seeds: independent realisations)",
+            ),
         ]);
         ModelInfo {
             model_name: "rotor",

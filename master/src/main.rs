@@ -66,6 +66,13 @@ struct RunupArgs {
     /// Turbine-wheel imbalance "mass_g,radius_mm,phase_deg".
     #[arg(long)]
     imbalance_t: Option<String>,
+    /// Random disturbance force on each journal, x and y: standard deviation [mN] (the seed of
+    /// self-excited whirl; 0 = off).
+    #[arg(long)]
+    disturbance: Option<f64>,
+    /// Seed of the disturbance generator (other seeds: independent realisations).
+    #[arg(long)]
+    disturbance_seed: Option<u32>,
     /// Output interval [us].
     #[arg(long)]
     output_interval: Option<f64>,
@@ -224,6 +231,8 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     s.extrapolation_order = a.extrapolation_order.unwrap_or(s.extrapolation_order);
     s.interpolation_order = a.interpolation_order.unwrap_or(s.interpolation_order);
     s.output_interval_us = a.output_interval.unwrap_or(s.output_interval_us);
+    s.disturbance_mn = a.disturbance.unwrap_or(s.disturbance_mn);
+    s.disturbance_seed = a.disturbance_seed.unwrap_or(s.disturbance_seed);
     s.jacobi = a.jacobi;
     if let Some(m) = &a.mesh {
         let (p, z) = m.split_once('x').ok_or("--mesh expects NxM, e.g. 20x6")?;

@@ -23,6 +23,11 @@ pub struct RunupSettings {
     /// Imbalance per wheel: mass [g], radius [mm], phase [deg] (compressor, turbine).
     pub imbalance_c: (f64, f64, f64),
     pub imbalance_t: (f64, f64, f64),
+    /// Random disturbance force on each journal (x and y), standard deviation [mN]: the seed
+    /// of self-excited whirl (see docs/stability.md); 0 = off.
+    pub disturbance_mn: f64,
+    /// Seed of the disturbance generator.
+    pub disturbance_seed: u32,
     pub output_interval_us: f64,
     pub jacobi: bool,
 }
@@ -54,6 +59,8 @@ impl RunupSettings {
             n_elem_z: 6,
             imbalance_c: (0.0, 0.0, 0.0),
             imbalance_t: (0.0, 0.0, 0.0),
+            disturbance_mn: DEFAULT_DISTURBANCE_MN,
+            disturbance_seed: 1,
             output_interval_us: 50.0,
             jacobi: false,
         })
@@ -70,6 +77,7 @@ impl RunupSettings {
             ("stop", self.stop_time_s, "s", false),
             ("macro-step", self.macro_step_us, "us", false),
             ("output-interval", self.output_interval_us, "us", false),
+            ("disturbance", self.disturbance_mn, "mN", true),
         ];
         for (name, v, unit, zero_ok) in positive {
             if !v.is_finite() || v < 0.0 || (!zero_ok && v == 0.0) {
@@ -112,12 +120,14 @@ impl RunupSettings {
         .unwrap();
         writeln!(
             s,
-            "parameters = {{ c_C = \"{c} N/mm\", c_T = \"{c} N/mm\", d_C = {d:?}, d_T = {d:?}, m_R_C = \"{m} g\", m_R_T = \"{m} g\", f_max = {f:?}, t_ramp = {tr:?}, m_imb_C = \"{mc} g\", r_imb_C = \"{rc} mm\", phase_imb_C = \"{pc} deg\", m_imb_T = \"{mt} g\", r_imb_T = \"{rt} mm\", phase_imb_T = \"{pt} deg\" }}",
+            "parameters = {{ c_C = \"{c} N/mm\", c_T = \"{c} N/mm\", d_C = {d:?}, d_T = {d:?}, m_R_C = \"{m} g\", m_R_T = \"{m} g\", f_max = {f:?}, t_ramp = {tr:?}, m_imb_C = \"{mc} g\", r_imb_C = \"{rc} mm\", phase_imb_C = \"{pc} deg\", m_imb_T = \"{mt} g\", r_imb_T = \"{rt} mm\", phase_imb_T = \"{pt} deg\", disturbance_force = \"{dist} mN\", disturbance_seed = {seed} }}",
             c = self.c_n_per_mm,
             d = self.d_n_s_per_m,
             m = self.m_r_g,
             f = self.f_max_hz,
-            tr = self.t_ramp_s
+            tr = self.t_ramp_s,
+            dist = self.disturbance_mn,
+            seed = self.disturbance_seed
         )
         .unwrap();
         for side in ["C", "T"] {
@@ -207,3 +217,5 @@ pub const RECORDED: &[&str] = &[
 pub const DEFAULT_MACRO_STEP_US: f64 = 10.0;
 pub const DEFAULT_EXTRAPOLATION_ORDER: u8 = 1;
 pub const DEFAULT_INTERPOLATION_ORDER: u8 = 1;
+/// Default journal disturbance [mN] (see docs/stability.md, "The whirl seed").
+pub const DEFAULT_DISTURBANCE_MN: f64 = 0.0;

@@ -47,6 +47,8 @@ pub const KEYS: &[(&str, &str, &str, &str)] = &[
     ("mesh", "mesh", "", ""),
     ("imbalance_c", "imbC", "", ""),
     ("imbalance_t", "imbT", "", ""),
+    ("disturbance", "dist", "disturbance_mn", "mN"),
+    ("disturbance_seed", "seed", "disturbance_seed", ""),
     ("output_interval", "out", "output_interval_us", "us"),
     ("jacobi", "jacobi", "jacobi", ""),
     ("fmu_dir", "fmu", "", ""),
