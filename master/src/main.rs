@@ -79,6 +79,9 @@ struct RunupArgs {
     /// Jacobi instead of Gauss-Seidel.
     #[arg(long)]
     jacobi: bool,
+    /// Step the two air films one after the other (one core) instead of in two threads.
+    #[arg(long)]
+    serial_films: bool,
     /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
     #[arg(long)]
     fmu_dir: Option<PathBuf>,
@@ -159,6 +162,14 @@ enum Command {
     },
     /// Linear stability: static equilibrium, Campbell table with damping, threshold speed.
     Stability(master::stability::cli::StabilityArgs),
+    /// Classify a finished run folder again from its timeseries.csv (prints JSON: class, onset,
+    /// first bearing, maximum eccentricities, criteria).
+    Classify {
+        dir: PathBuf,
+        /// Nominal clearance C [um] (default: the run's settings in summary.json, else 20).
+        #[arg(long)]
+        clearance: Option<f64>,
+    },
 }
 
 #[derive(clap::Args, Clone)]
@@ -234,6 +245,7 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     s.disturbance_mn = a.disturbance.unwrap_or(s.disturbance_mn);
     s.disturbance_seed = a.disturbance_seed.unwrap_or(s.disturbance_seed);
     s.jacobi = a.jacobi;
+    s.serial_films = a.serial_films;
     if let Some(m) = &a.mesh {
         let (p, z) = m.split_once('x').ok_or("--mesh expects NxM, e.g. 20x6")?;
         s.n_elem_phi = p
@@ -299,6 +311,33 @@ fn finish(report: master::run::RunReport, out: &Path) -> ExitCode {
     }
 }
 
+fn classify_command(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, String> {
+    let from_summary = || -> Option<f64> {
+        let text = std::fs::read_to_string(dir.join("summary.json")).ok()?;
+        let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+        v["settings"]["clearance_um"].as_f64()
+    };
+    let c_um = clearance_um.or_else(from_summary).unwrap_or(20.0);
+    let series = master::analysis::load_run(dir, c_um / 1e6)?;
+    let cl = master::analysis::classify(&series);
+    let out = serde_json::json!({
+        "run": dir.display().to_string(),
+        "clearance_um": c_um,
+        "classification": cl.class.as_str(),
+        "onset_time_s": cl.onset_time_s,
+        "onset_speed_hz": cl.onset_speed_hz,
+        "first_bearing": cl.first_bearing,
+        "max_eps_C": cl.max_eps_c,
+        "max_eps_T": cl.max_eps_t,
+        "criteria": cl.criteria,
+    });
+    println!(
+        "{}",
+        serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
 fn sweep_command(
     study_path: &Path,
     out: Option<PathBuf>,
@@ -316,9 +355,12 @@ fn sweep_command(
         print!("{}", sweep::plan_json_lines(&study, shard));
         return Ok(ExitCode::SUCCESS);
     }
+    let jobs = jobs.unwrap_or_else(sweep::default_jobs);
     let opts = sweep::SweepOptions {
         out: out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name))),
-        jobs: jobs.unwrap_or_else(sweep::default_jobs),
+        jobs,
+        // Two film threads per run-up only while there is a core for each.
+        serial_films: 2 * jobs > sweep::cores(),
         shard: shard.map(sweep::parse_shard).transpose()?,
         exe: std::env::current_exe().map_err(|e| e.to_string())?,
         quiet,
@@ -440,6 +482,7 @@ fn main() -> ExitCode {
         Command::Stability(args) => {
             master::stability::cli::run_cli(&args).map(|_| ExitCode::SUCCESS)
         }
+        Command::Classify { dir, clearance } => classify_command(&dir, clearance),
     })();
     match result {
         Ok(code) => code,

@@ -30,6 +30,9 @@ pub struct RunupSettings {
     pub disturbance_seed: u32,
     pub output_interval_us: f64,
     pub jacobi: bool,
+    /// Step the two air films one after the other instead of in two threads (for sweeps that
+    /// run one run-up per core).
+    pub serial_films: bool,
 }
 
 impl RunupSettings {
@@ -63,6 +66,7 @@ impl RunupSettings {
             disturbance_seed: 1,
             output_interval_us: 50.0,
             jacobi: false,
+            serial_films: false,
         })
     }
 
@@ -162,8 +166,9 @@ impl RunupSettings {
         }
         writeln!(
             s,
-            "\n[algorithm]\nkind = \"{}\"\norder = [\"rotor\", \"film_C\", \"film_T\"]\nmacro_step = \"{} us\"\nstop_time = \"{} s\"\nextrapolation_order = {}\ninterpolation_order = {}",
+            "\n[algorithm]\nkind = \"{}\"\nparallel = {}\norder = [\"rotor\", \"film_C\", \"film_T\"]\nmacro_step = \"{} us\"\nstop_time = \"{} s\"\nextrapolation_order = {}\ninterpolation_order = {}",
             if self.jacobi { "jacobi" } else { "gauss-seidel" },
+            !self.serial_films,
             self.macro_step_us,
             self.stop_time_s,
             self.extrapolation_order,

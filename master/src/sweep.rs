@@ -319,16 +319,23 @@ pub struct SweepOptions {
     /// The `airring` executable the run-ups are started with.
     pub exe: PathBuf,
     pub quiet: bool,
+    /// Pass --serial-films to every run-up (one core each; set when jobs exceed half the cores).
+    pub serial_films: bool,
     /// Set by Ctrl-C: no new run-ups are started; running ones stop themselves (same signal).
     pub stop: Arc<AtomicBool>,
 }
 
-/// Default parallel run-ups: half the cores (each run-up steps its two films in two threads).
-pub fn default_jobs() -> usize {
+/// Cores available to this process.
+pub fn cores() -> usize {
     std::thread::available_parallelism()
-        .map(|n| n.get() / 2)
+        .map(|n| n.get())
         .unwrap_or(1)
-        .max(1)
+}
+
+/// Default parallel run-ups: one per core, each stepping its two films one after the other
+/// (throughput: no thread hand-over per macro step, and the rotor step does not leave a core idle).
+pub fn default_jobs() -> usize {
+    cores()
 }
 
 #[derive(Debug, Default)]
@@ -385,8 +392,11 @@ fn start_run(spec: &RunSpec, opts: &SweepOptions) -> Result<Running, String> {
     )
     .map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut cmd = Command::new(&opts.exe);
-    cmd.args(runup_args(&spec.args))
-        .arg("--out")
+    cmd.args(runup_args(&spec.args));
+    if opts.serial_films {
+        cmd.arg("--serial-films");
+    }
+    cmd.arg("--out")
         .arg(&dir)
         .stdin(Stdio::null())
         .stdout(Stdio::null())

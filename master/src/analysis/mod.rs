@@ -5,6 +5,7 @@
 //! waterfall data. The criteria are documented in [`onset`] and [`classify()`]'s module.
 
 pub mod classify;
+pub mod csv_series;
 pub mod onset;
 pub mod series;
 pub mod spectrum;
@@ -14,5 +15,6 @@ pub(crate) mod synth;
 mod tests;
 
 pub use classify::{classify, Classification, RunClass, WhirlSample};
+pub use csv_series::{load_run, series_from_csv};
 pub use series::{Bearing, RunSeries};
 pub use spectrum::{spectrogram, Spectrogram};

@@ -1,0 +1,89 @@
+//! Replays the journal motion of a run-up (a run folder's timeseries.csv, bearing C or T) through
+//! the air-film library alone and prints the solver work per phase: the film's cost along a real
+//! trajectory without the master. Used to profile (perf record) and to compare solver policies.
+//!
+//! cargo run --release -p fmu-airfilm --example replay -- RUN_DIR/timeseries.csv C [t_end_s]
+
+use fmu_airfilm::{AirFilm, BearingParams, JournalState};
+use std::time::Instant;
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let path = args
+        .get(1)
+        .expect("usage: replay timeseries.csv C|T [t_end_s]");
+    let side = args.get(2).map(String::as_str).unwrap_or("C");
+    let t_end: f64 = args
+        .get(3)
+        .map(|s| s.parse().unwrap())
+        .unwrap_or(f64::INFINITY);
+    let text = std::fs::read_to_string(path).unwrap();
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h.split(" [").next() == Some(name))
+            .unwrap_or_else(|| panic!("no column {name}"))
+    };
+    let idx = [
+        col(&format!("rotor.dx_{side}")),
+        col(&format!("rotor.dy_{side}")),
+        col(&format!("rotor.vx_{side}")),
+        col(&format!("rotor.vy_{side}")),
+        col("rotor.omega"),
+    ];
+    let mut t = vec![];
+    let mut rows: Vec<[f64; 5]> = vec![];
+    for l in lines {
+        let v: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+        if v[0] > t_end {
+            break;
+        }
+        t.push(v[0]);
+        rows.push(idx.map(|i| v[i]));
+    }
+    let journal = |tt: f64| {
+        let k = t.partition_point(|x| *x <= tt).clamp(1, t.len() - 1);
+        let w = ((tt - t[k - 1]) / (t[k] - t[k - 1])).clamp(0.0, 1.0);
+        let r: [f64; 5] =
+            std::array::from_fn(|i| rows[k - 1][i] + w * (rows[k][i] - rows[k - 1][i]));
+        JournalState {
+            dx_m: r[0],
+            dy_m: r[1],
+            vx_m_s: r[2],
+            vy_m_s: r[3],
+            omega_rad_s: r[4],
+        }
+    };
+    let mut film = AirFilm::new(BearingParams::paper()).unwrap();
+    let h = 10e-6;
+    let n = ((t[t.len() - 1] - t[0]) / h).floor() as usize;
+    let phase = 10_000;
+    let start = Instant::now();
+    let mut last = (film.total_stats(), Instant::now());
+    println!("phase end [s]  speed [Hz]  us/step  substeps  newton  jacobians  rejected (per macro step)");
+    for k in 0..n {
+        film.advance(k as f64 * h, h, &journal).unwrap();
+        if (k + 1) % phase == 0 || k + 1 == n {
+            let s = film.total_stats();
+            let m = ((k + 1) % phase).max(if (k + 1) % phase == 0 { phase } else { 0 }) as f64;
+            let per = |a: usize, b: usize| (a - b) as f64 / m;
+            println!(
+                "{:10.3} {:10.1} {:9.1} {:9.2} {:7.2} {:10.3} {:9.3}",
+                (k + 1) as f64 * h,
+                journal((k + 1) as f64 * h).omega_rad_s / std::f64::consts::TAU,
+                last.1.elapsed().as_secs_f64() / m * 1e6,
+                per(s.n_steps, last.0.n_steps),
+                per(s.n_newton_iters, last.0.n_newton_iters),
+                per(s.n_jacobians, last.0.n_jacobians),
+                per(s.n_rejected, last.0.n_rejected),
+            );
+            last = (s, Instant::now());
+        }
+    }
+    println!(
+        "total {:.1} s for {n} macro steps",
+        start.elapsed().as_secs_f64()
+    );
+}
