@@ -2,7 +2,10 @@
 //! the air-film library alone and prints the solver work per phase: the film's cost along a real
 //! trajectory without the master. Used to profile (perf record) and to compare solver policies.
 //!
-//! cargo run --release -p fmu-airfilm --example replay -- RUN_DIR/timeseries.csv C [t_end_s]
+//! cargo run --release -p fmu-airfilm --example replay -- RUN_DIR/timeseries.csv C [t_end_s [t_start_s]]
+//!
+//! With a start time the film starts there from ambient pressure; the first 2 ms (its start-up
+//! transient) are not counted.
 
 use fmu_airfilm::{AirFilm, BearingParams, JournalState};
 use std::time::Instant;
@@ -17,6 +20,7 @@ fn main() {
         .get(3)
         .map(|s| s.parse().unwrap())
         .unwrap_or(f64::INFINITY);
+    let t_start: f64 = args.get(4).map(|s| s.parse().unwrap()).unwrap_or(0.0);
     let text = std::fs::read_to_string(path).unwrap();
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
@@ -40,6 +44,9 @@ fn main() {
         if v[0] > t_end {
             break;
         }
+        if v[0] < t_start - 1e-3 {
+            continue;
+        }
         t.push(v[0]);
         rows.push(idx.map(|i| v[i]));
     }
@@ -58,21 +65,28 @@ fn main() {
     };
     let mut film = AirFilm::new(BearingParams::paper()).unwrap();
     let h = 10e-6;
-    let n = ((t[t.len() - 1] - t[0]) / h).floor() as usize;
+    let t0 = t_start.max(t[0]);
+    let n = ((t[t.len() - 1] - t0) / h).floor() as usize;
     let phase = 10_000;
+    let warm = if t_start > 0.0 { 200 } else { 0 };
+    for k in 0..warm {
+        film.advance(t0 + k as f64 * h, h, &journal).unwrap();
+    }
+    let t0 = t0 + warm as f64 * h;
+    let n = n - warm;
     let start = Instant::now();
     let mut last = (film.total_stats(), Instant::now());
     println!("phase end [s]  speed [Hz]  us/step  substeps  newton  jacobians  rejected (per macro step)");
     for k in 0..n {
-        film.advance(k as f64 * h, h, &journal).unwrap();
+        film.advance(t0 + k as f64 * h, h, &journal).unwrap();
         if (k + 1) % phase == 0 || k + 1 == n {
             let s = film.total_stats();
             let m = ((k + 1) % phase).max(if (k + 1) % phase == 0 { phase } else { 0 }) as f64;
             let per = |a: usize, b: usize| (a - b) as f64 / m;
             println!(
                 "{:10.3} {:10.1} {:9.1} {:9.2} {:7.2} {:10.3} {:9.3}",
-                (k + 1) as f64 * h,
-                journal((k + 1) as f64 * h).omega_rad_s / std::f64::consts::TAU,
+                t0 + (k + 1) as f64 * h,
+                journal(t0 + (k + 1) as f64 * h).omega_rad_s / std::f64::consts::TAU,
                 last.1.elapsed().as_secs_f64() / m * 1e6,
                 per(s.n_steps, last.0.n_steps),
                 per(s.n_newton_iters, last.0.n_newton_iters),

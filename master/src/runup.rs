@@ -219,8 +219,8 @@ pub const RECORDED: &[&str] = &[
 ];
 
 /// Default macro step and polynomial orders (see docs/convergence.md for the study behind them).
-pub const DEFAULT_MACRO_STEP_US: f64 = 10.0;
+pub const DEFAULT_MACRO_STEP_US: f64 = 20.0;
 pub const DEFAULT_EXTRAPOLATION_ORDER: u8 = 1;
 pub const DEFAULT_INTERPOLATION_ORDER: u8 = 1;
 /// Default journal disturbance [mN] (see docs/stability.md, "The whirl seed").
-pub const DEFAULT_DISTURBANCE_MN: f64 = 0.0;
+pub const DEFAULT_DISTURBANCE_MN: f64 = 0.001;
