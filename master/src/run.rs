@@ -174,11 +174,27 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
         .checkpoint_every_s
         .map(|dt| ((built.cosim.t / dt).floor() + 1.0) * dt);
 
-    let record = |cosim: &crate::cosim::CoSim, values: &mut [f64]| -> Result<(), String> {
-        for ((i, vr, name, _), v) in built.recorded.iter().zip(values.iter_mut()) {
+    // One fmi2GetReal per subsystem and sample: (subsystem, its recorded vrs, their columns).
+    let mut by_sub: Vec<(usize, Vec<u32>, Vec<usize>)> = vec![];
+    for (col, (i, vr, _, _)) in built.recorded.iter().enumerate() {
+        match by_sub.iter_mut().find(|g| g.0 == *i) {
+            Some(g) => {
+                g.1.push(*vr);
+                g.2.push(col);
+            }
+            None => by_sub.push((*i, vec![*vr], vec![col])),
+        }
+    }
+    let mut sub_values = vec![0.0; built.recorded.len()];
+    let mut record = |cosim: &crate::cosim::CoSim, values: &mut [f64]| -> Result<(), String> {
+        for (i, vrs, cols) in &by_sub {
+            let out = &mut sub_values[..vrs.len()];
             cosim
-                .get(*i, *vr, v)
-                .map_err(|e| format!("reading {name}: {e}"))?;
+                .get_many(*i, vrs, out)
+                .map_err(|e| format!("reading outputs of {}: {e}", cosim.subs[*i].name))?;
+            for (c, v) in cols.iter().zip(out.iter()) {
+                values[*c] = *v;
+            }
         }
         Ok(())
     };

@@ -90,6 +90,20 @@ impl Subsystem {
         Ok(v)
     }
 
+    /// Reads the coupling outputs at `t` as the newest macro point, reusing the oldest point's
+    /// vector once three are kept (no allocation per macro step).
+    fn read_coupling_into_history(&mut self, t: f64) -> Result<(), CallError> {
+        let mut v = if self.history.len() == 3 {
+            self.history.pop_front().map(|p| p.1).unwrap_or_default()
+        } else {
+            vec![0.0; self.coupling_vrs.len()]
+        };
+        v.resize(self.coupling_vrs.len(), 0.0);
+        self.slave.get_real(&self.coupling_vrs, &mut v)?;
+        self.history.push_back((t, v));
+        Ok(())
+    }
+
     fn push_history(&mut self, t: f64, v: Vec<f64>) {
         if self.history.len() == 3 {
             self.history.pop_front();
@@ -139,6 +153,8 @@ pub struct CoSim {
     pub retries: u64,
     pub timing: Timing,
     pool: Option<StepPool>,
+    /// Scratch: which subsystems have stepped in the current macro step.
+    stepped: Vec<bool>,
     /// Macro steps between saved FMU states when rollback is on.
     pub save_every: usize,
     saved: Option<Saved>,
@@ -214,6 +230,7 @@ impl CoSim {
             retries: 0,
             timing: Timing::default(),
             pool,
+            stepped: vec![],
             save_every: 200,
             saved: None,
             _fmus: fmus,
@@ -317,66 +334,81 @@ impl CoSim {
     /// they got to (the caller rolls back).
     fn try_step(&mut self, h: f64) -> Result<(), StepError> {
         let t = self.t;
-        let mut stepped = vec![false; self.subs.len()];
-        for g in 0..self.groups.len() {
-            let group = self.groups[g].clone();
+        // Per-step scratch lives in `self` (taken and put back): no allocation per macro step.
+        let mut stepped = std::mem::take(&mut self.stepped);
+        stepped.clear();
+        stepped.resize(self.subs.len(), false);
+        let groups = std::mem::take(&mut self.groups);
+        let r = self.try_groups(&groups, t, h, &mut stepped);
+        self.groups = groups;
+        self.stepped = stepped;
+        r?;
+        self.t = t + h;
+        Ok(())
+    }
+
+    fn try_groups(
+        &mut self,
+        groups: &[Vec<usize>],
+        t: f64,
+        h: f64,
+        stepped: &mut [bool],
+    ) -> Result<(), StepError> {
+        let fail = |s: &Subsystem, error, t_s| StepError {
+            subsystem: s.name.clone(),
+            error,
+            t_s,
+        };
+        for group in groups {
             let coupling = Instant::now();
-            for &i in &group {
-                self.set_inputs(i, t, h, &stepped)
-                    .map_err(|error| StepError {
-                        subsystem: self.subs[i].name.clone(),
-                        error,
-                        t_s: t,
-                    })?;
+            for &i in group {
+                self.set_inputs(i, t, h, stepped)
+                    .map_err(|e| fail(&self.subs[i], e, t))?;
             }
             self.timing.coupling += coupling.elapsed();
-            let wall = Instant::now();
-            let mut members: Vec<&mut Subsystem> = self
-                .subs
-                .iter_mut()
-                .enumerate()
-                .filter(|(i, _)| group.contains(i))
-                .map(|(_, s)| s)
-                .collect();
-            let before: Vec<Duration> = members.iter().map(|m| m.step_wall).collect();
-            let results: Vec<Result<(), CallError>> = match &self.pool {
-                Some(pool) if members.len() > 1 => pool.step(&mut members, t, h),
-                _ => members.iter_mut().map(|m| m.do_step(t, h)).collect(),
-            };
-            // Time the group took beyond its slowest member: hand-over to and from the workers.
-            let slowest = members
-                .iter()
-                .zip(&before)
-                .map(|(m, b)| m.step_wall - *b)
-                .max()
-                .unwrap_or_default();
-            self.timing.parallel_overhead += wall.elapsed().saturating_sub(slowest);
-            self.timing.critical_path += slowest;
-            let results: Vec<(String, Result<(), CallError>)> = group
-                .iter()
-                .map(|&i| self.subs[i].name.clone())
-                .zip(results)
-                .collect();
-            for (name, r) in results {
-                r.map_err(|error| StepError {
-                    subsystem: name,
-                    error,
-                    t_s: t,
-                })?;
+            match &self.pool {
+                Some(pool) if group.len() > 1 => {
+                    let wall = Instant::now();
+                    let mut members: Vec<&mut Subsystem> = self
+                        .subs
+                        .iter_mut()
+                        .enumerate()
+                        .filter(|(i, _)| group.contains(i))
+                        .map(|(_, s)| s)
+                        .collect();
+                    let before: Vec<Duration> = members.iter().map(|m| m.step_wall).collect();
+                    let results = pool.step(&mut members, t, h);
+                    // Time the group took beyond its slowest member: hand-over to and from the workers.
+                    let slowest = members
+                        .iter()
+                        .zip(&before)
+                        .map(|(m, b)| m.step_wall - *b)
+                        .max()
+                        .unwrap_or_default();
+                    self.timing.parallel_overhead += wall.elapsed().saturating_sub(slowest);
+                    self.timing.critical_path += slowest;
+                    for (&i, r) in group.iter().zip(results) {
+                        r.map_err(|e| fail(&self.subs[i], e, t))?;
+                    }
+                }
+                _ => {
+                    for &i in group {
+                        let before = self.subs[i].step_wall;
+                        let r = self.subs[i].do_step(t, h);
+                        self.timing.critical_path += self.subs[i].step_wall - before;
+                        r.map_err(|e| fail(&self.subs[i], e, t))?;
+                    }
+                }
             }
             let coupling = Instant::now();
-            for &i in &group {
-                let v = self.subs[i].read_coupling().map_err(|error| StepError {
-                    subsystem: self.subs[i].name.clone(),
-                    error,
-                    t_s: t + h,
-                })?;
-                self.subs[i].push_history(t + h, v);
+            for &i in group {
+                self.subs[i]
+                    .read_coupling_into_history(t + h)
+                    .map_err(|e| fail(&self.subs[i], e, t + h))?;
                 stepped[i] = true;
             }
             self.timing.coupling += coupling.elapsed();
         }
-        self.t = t + h;
         Ok(())
     }
 
@@ -488,6 +520,11 @@ impl CoSim {
         self.subs[i].slave.get_real(&[vr], &mut v)?;
         *out = v[0];
         Ok(())
+    }
+
+    /// Current values of several Real variables of subsystem `i` (one fmi2GetReal call).
+    pub fn get_many(&self, i: usize, vrs: &[u32], out: &mut [f64]) -> Result<(), CallError> {
+        self.subs[i].slave.get_real(vrs, out)
     }
 
     /// Index of a subsystem by name.
