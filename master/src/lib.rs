@@ -10,4 +10,5 @@ pub mod run;
 pub mod runup;
 pub mod stability;
 pub mod sweep;
+pub mod sweep_linear;
 pub mod system;

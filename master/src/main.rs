@@ -120,7 +120,7 @@ enum Command {
         /// Output folder (default: `runs/sweep-<study name>`).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Run-ups at a time (default: half the cores; each run-up uses two threads).
+        /// Run-ups at a time (default: one per core, each stepping its films one after the other).
         #[arg(long)]
         jobs: Option<usize>,
         /// Run only every n-th grid point: k/n runs the points with index i where i mod n = k - 1.
@@ -131,6 +131,16 @@ enum Command {
         /// Print the run-ups (name, index, flags, `airring` arguments) as JSON lines and exit.
         #[arg(long)]
         list: bool,
+        /// Predict the map with the linear stability analysis instead of running the run-ups
+        /// (threshold speed and visible onset per point; study_linear.csv, bifurcation_map_linear.*).
+        #[arg(long)]
+        linear: bool,
+        /// Speed grid of the linear prediction, from:to:step [Hz].
+        #[arg(long, default_value = "200:2000:100")]
+        speeds: String,
+        /// Film mesh per lobe of the linear prediction when the study sets none (default 8x2).
+        #[arg(long)]
+        linear_mesh: Option<String>,
     },
     /// Merge the run folders of several sweep outputs (shards) into one table and map.
     SweepMerge {
@@ -338,6 +348,38 @@ fn classify_command(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, S
     Ok(ExitCode::SUCCESS)
 }
 
+fn linear_sweep_command(
+    study_path: &Path,
+    out: Option<PathBuf>,
+    speeds: &str,
+    mesh: Option<&str>,
+    quiet: bool,
+) -> Result<ExitCode, String> {
+    let study = master::sweep::Study::load(study_path)?;
+    let speeds = master::stability::parse_speeds(speeds)?;
+    let mesh = match mesh {
+        None => master::sweep_linear::DEFAULT_MESH,
+        Some(m) => {
+            let bad = || format!("--linear-mesh '{m}': expected NxM, e.g. 8x2");
+            let (p, z) = m.split_once('x').ok_or_else(bad)?;
+            (
+                p.trim().parse().map_err(|_| bad())?,
+                z.trim().parse().map_err(|_| bad())?,
+            )
+        }
+    };
+    let out = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name)));
+    let (preds, maps) = master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet)?;
+    eprintln!(
+        "linear prediction: {} points -> {}, {}",
+        preds.len(),
+        out.join("study_linear.csv").display(),
+        maps.first()
+            .map_or(String::new(), |m| m.display().to_string())
+    );
+    Ok(ExitCode::SUCCESS)
+}
+
 fn sweep_command(
     study_path: &Path,
     out: Option<PathBuf>,
@@ -463,7 +505,16 @@ fn main() -> ExitCode {
             shard,
             quiet,
             list,
-        } => sweep_command(&study, out, jobs, shard.as_deref(), quiet, list),
+            linear,
+            speeds,
+            linear_mesh,
+        } => {
+            if linear {
+                linear_sweep_command(&study, out, &speeds, linear_mesh.as_deref(), quiet)
+            } else {
+                sweep_command(&study, out, jobs, shard.as_deref(), quiet, list)
+            }
+        }
         Command::SweepMerge { dirs, out } => {
             let out = out.unwrap_or_else(|| dirs[0].clone());
             let (table, maps, n) = master::sweep::merge(&dirs, &out)?;

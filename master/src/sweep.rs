@@ -746,6 +746,7 @@ fn cell_style(r: &RunRecord) -> (Rgb, &'static str) {
         Some("path2a") => (Rgb(253, 219, 132), "path 2a"),
         Some("path2b") => (Rgb(244, 165, 130), "path 2b"),
         Some("unstable_low_speed") => (Rgb(214, 96, 77), "unstable low"),
+        Some("unstable_linear") => (Rgb(203, 180, 227), "lin. unst."),
         _ => (Rgb(240, 240, 240), "unclassified"),
     }
 }
@@ -757,6 +758,7 @@ pub const LEGEND: &[(&str, Rgb)] = &[
     ("path 2a", Rgb(253, 219, 132)),
     ("path 2b", Rgb(244, 165, 130)),
     ("unstable low", Rgb(214, 96, 77)),
+    ("lin. unst.", Rgb(203, 180, 227)),
     ("failed", Rgb(190, 190, 190)),
 ];
 

@@ -197,3 +197,71 @@ fn maps_mark_every_class_with_onset_speed_per_case() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `airring sweep --linear` predicts the smoke study's map: per point the same threshold as
+/// `airring stability` with the same flags, a visible onset only where the growth exponent reaches
+/// the calibrated level, and the predicted map files.
+#[test]
+fn linear_prediction_matches_the_stability_command_point_by_point() {
+    let out = tmp("linear");
+    let out_s = out.to_str().unwrap();
+    let (ok, err) = airring(&[
+        "sweep",
+        "studies/smoke.toml",
+        "--linear",
+        "--speeds",
+        "300:2000:300",
+        "--out",
+        out_s,
+        "--quiet",
+    ]);
+    assert!(ok, "{err}");
+    for f in [
+        "study_linear.csv",
+        "study_linear_table.csv",
+        "bifurcation_map_linear.svg",
+        "bifurcation_map_linear.png",
+    ] {
+        assert!(out.join(f).exists(), "{f} missing");
+    }
+    let csv = std::fs::read_to_string(out.join("study_linear.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert_eq!(rows.len(), 4);
+    // Point c = 1000 N/mm, d = 50 N s/m (smoke mesh 8x2): same threshold through `airring stability`.
+    let row = rows
+        .iter()
+        .find(|r| r.starts_with("C20_dH40_c1000_d50,"))
+        .expect("row");
+    let f: Vec<&str> = row.split(',').collect();
+    let threshold: f64 = f[1].parse().unwrap();
+    let n_fmax: f64 = f[3].parse().unwrap();
+    let onset: f64 = f[4].parse().unwrap();
+    let stab = Command::new(env!("CARGO_BIN_EXE_airring"))
+        .args([
+            "stability",
+            "--preset",
+            "path1",
+            "--c",
+            "1000",
+            "--d",
+            "50",
+            "--mesh",
+            "8x2",
+            "--speeds",
+            "300:2000:300",
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&stab.stdout);
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("threshold speed of instability:"))
+        .expect("threshold line");
+    let t_cli: f64 = line.split_whitespace().nth(4).unwrap().parse().unwrap();
+    assert!((threshold - t_cli).abs() < 0.06, "{threshold} vs {t_cli}");
+    // Unstable (N at f_max far above the visible level) with the onset between threshold and f_max.
+    assert!(
+        n_fmax > 12.0 && onset > threshold && onset < 2000.0,
+        "{row}"
+    );
+}

@@ -137,17 +137,21 @@ pub fn system_modes(
         // Mode `rank` (by frequency) of A(nu) defines g(nu) = Im(lambda_rank(nu)) / 2 pi - nu; its
         // root is the self-consistent mode. Fixed-point steps, then secant steps (ranks keep two
         // starting modes from converging onto the same eigenvalue).
-        let f_of = |tables: &mut [ImpedanceTable; 2], nu: f64| -> Result<Mode, String> {
+        // None: at this nu the matrix has fewer oscillatory modes than `rank + 1` (heavy ring
+        // damping makes a mode overdamped: a pair of negative real eigenvalues, which `modes`
+        // does not list); such a mode has no whirl frequency and decays, so it is left out.
+        let f_of = |tables: &mut [ImpedanceTable; 2], nu: f64| -> Result<Option<Mode>, String> {
             let ms = modes_with(rotor, omega_rad_s, tables, nu)?;
-            ms.get(rank)
-                .cloned()
-                .ok_or_else(|| format!("mode {rank} lost at nu = {nu} Hz"))
+            Ok(ms.get(rank).cloned())
         };
         let mut nu = m0.freq_hz;
-        let mut current = f_of(&mut tables, nu)?;
+        let Some(mut current) = f_of(&mut tables, nu)? else {
+            continue;
+        };
         let mut g = current.freq_hz - nu;
         let mut prev: Option<(f64, f64)> = None;
         let mut iterations = 1;
+        let mut lost = false;
         while g.abs() > 1e-6 * nu.abs() + 1e-6 && iterations < MAX_ITERS {
             let next = match prev {
                 Some((nu0, g0)) if g != g0 && iterations > 2 => nu - g * (nu - nu0) / (g - g0),
@@ -155,11 +159,19 @@ pub fn system_modes(
             };
             prev = Some((nu, g));
             nu = next.max(0.0);
-            current = f_of(&mut tables, nu)?;
+            match f_of(&mut tables, nu)? {
+                Some(m) => current = m,
+                None => {
+                    lost = true;
+                    break;
+                }
+            }
             g = current.freq_hz - nu;
             iterations += 1;
         }
-        out.push(result_of(&current, iterations));
+        if !lost {
+            out.push(result_of(&current, iterations));
+        }
     }
     out.sort_by(|a, b| a.freq_hz.total_cmp(&b.freq_hz));
     Ok(out)
