@@ -257,15 +257,7 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     s.jacobi = a.jacobi;
     s.serial_films = a.serial_films;
     if let Some(m) = &a.mesh {
-        let (p, z) = m.split_once('x').ok_or("--mesh expects NxM, e.g. 20x6")?;
-        s.n_elem_phi = p
-            .trim()
-            .parse()
-            .map_err(|_| "--mesh expects NxM, e.g. 20x6")?;
-        s.n_elem_z = z
-            .trim()
-            .parse()
-            .map_err(|_| "--mesh expects NxM, e.g. 20x6")?;
+        (s.n_elem_phi, s.n_elem_z) = master::runup::parse_mesh(m, "--mesh")?;
     }
     if let Some(i) = &a.imbalance_c {
         s.imbalance_c = triple(i, "imbalance-c")?;
@@ -359,14 +351,7 @@ fn linear_sweep_command(
     let speeds = master::stability::parse_speeds(speeds)?;
     let mesh = match mesh {
         None => master::sweep_linear::DEFAULT_MESH,
-        Some(m) => {
-            let bad = || format!("--linear-mesh '{m}': expected NxM, e.g. 8x2");
-            let (p, z) = m.split_once('x').ok_or_else(bad)?;
-            (
-                p.trim().parse().map_err(|_| bad())?,
-                z.trim().parse().map_err(|_| bad())?,
-            )
-        }
+        Some(m) => master::runup::parse_mesh(m, "--linear-mesh")?,
     };
     let out = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name)));
     let (preds, maps) = master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet)?;

@@ -187,6 +187,16 @@ impl RunupSettings {
     }
 }
 
+/// A film mesh per lobe written "NxM" (elements along the lobe x across the half width).
+pub fn parse_mesh(text: &str, flag: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("{flag} '{text}': expected NxM, e.g. 20x6");
+    let (p, z) = text.split_once('x').ok_or_else(bad)?;
+    Ok((
+        p.trim().parse().map_err(|_| bad())?,
+        z.trim().parse().map_err(|_| bad())?,
+    ))
+}
+
 /// Variables every run-up records (the analysis and the plots read them by these names).
 pub const RECORDED: &[&str] = &[
     "rotor.omega",

@@ -45,12 +45,7 @@ pub fn settings_for(
             "m_r" => s.m_r_g = num(k, v)?,
             "f_max" => s.f_max_hz = num(k, v)?,
             "t_ramp" => s.t_ramp_s = num(k, v)?,
-            "mesh" => {
-                let bad = || format!("mesh '{v}': expected NxM, e.g. 20x6");
-                let (p, z) = v.split_once('x').ok_or_else(bad)?;
-                s.n_elem_phi = p.trim().parse().map_err(|_| bad())?;
-                s.n_elem_z = z.trim().parse().map_err(|_| bad())?;
-            }
+            "mesh" => (s.n_elem_phi, s.n_elem_z) = crate::runup::parse_mesh(v, "mesh")?,
             _ => {}
         }
     }

@@ -45,10 +45,7 @@ pub fn settings(a: &StabilityArgs) -> Result<RunupSettings, String> {
     s.clearance_um = a.clearance.unwrap_or(s.clearance_um);
     s.dh_um = a.dh.unwrap_or(s.dh_um);
     if let Some(m) = &a.mesh {
-        let bad = || "--mesh expects NxM, e.g. 20x6".to_string();
-        let (p, z) = m.split_once('x').ok_or_else(bad)?;
-        s.n_elem_phi = p.trim().parse().map_err(|_| bad())?;
-        s.n_elem_z = z.trim().parse().map_err(|_| bad())?;
+        (s.n_elem_phi, s.n_elem_z) = crate::runup::parse_mesh(m, "--mesh")?;
     }
     s.validate()?;
     Ok(s)
