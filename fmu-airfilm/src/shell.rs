@@ -209,7 +209,15 @@ impl Model for AirFilmFmu {
                 );
                 StepOutcome::Ok
             }
-            Err(e @ (FilmError::NewtonFailure { .. } | FilmError::TooManySubsteps { .. })) => {
+            // A journal that crosses the contact limit inside the step usually does so because the
+            // master's input polynomial overshoots over a long macro step (the journal is stopped by
+            // the stiff contact force of the previous step's output): Discard lets the master roll
+            // back and retry with smaller steps, which follow the contact more closely.
+            Err(
+                e @ (FilmError::NewtonFailure { .. }
+                | FilmError::TooManySubsteps { .. }
+                | FilmError::BeyondContactLimit { .. }),
+            ) => {
                 let reached = self.film.time_s();
                 self.previous = None;
                 self.time_s = reached;

@@ -734,6 +734,18 @@ pub fn write_table(records: &[RunRecord], path: &Path) -> Result<(), String> {
 
 /// What a map cell shows: its fill, a short label, and the legend name.
 fn cell_style(r: &RunRecord) -> (Rgb, &'static str) {
+    // A run that failed after its onset (the journal reached the contact limit or the film's
+    // Newton iteration gave up in a violent whirl) keeps the class it had reached: an unstable run
+    // that ends in contact is no less unstable. Its label carries "(f)".
+    if r.status == "failed" && r.onset_time_s.is_some() {
+        return match r.classification.as_deref() {
+            Some("path1") => (Rgb(146, 197, 222), "path 1 (f)"),
+            Some("path2a") => (Rgb(253, 219, 132), "path 2a (f)"),
+            Some("path2b") => (Rgb(244, 165, 130), "path 2b (f)"),
+            Some("unstable_low_speed") => (Rgb(214, 96, 77), "unst.low (f)"),
+            _ => (Rgb(190, 190, 190), "failed"),
+        };
+    }
     if r.status != "completed" {
         return match r.status.as_str() {
             "interrupted" => (Rgb(225, 225, 225), "interrupted"),
@@ -975,6 +987,36 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(PathBuf, Vec<PathBuf>, usi
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn failed_runs_keep_the_class_they_reached_after_onset() {
+        let rec = |status: &str, class: Option<&str>, onset: Option<f64>| RunRecord {
+            name: "r".into(),
+            index: 0,
+            args: BTreeMap::new(),
+            status: status.into(),
+            classification: class.map(String::from),
+            onset_time_s: onset,
+            onset_speed_hz: None,
+            max_eps_c: None,
+            max_eps_t: None,
+            wall_time_s: None,
+            settings: serde_json::Value::Null,
+        };
+        assert_eq!(
+            cell_style(&rec("failed", Some("path2b"), Some(1.1))).1,
+            "path 2b (f)"
+        );
+        assert_eq!(cell_style(&rec("failed", Some("stable"), None)).1, "failed");
+        assert_eq!(
+            cell_style(&rec("completed", Some("path2b"), Some(1.1))).1,
+            "path 2b"
+        );
+        assert_eq!(
+            cell_style(&rec("interrupted", Some("path1"), Some(1.1))).1,
+            "interrupted"
+        );
+    }
 
     #[test]
     fn grids_cases_and_duplicates() {
