@@ -6,7 +6,7 @@ Both run the same floating-point operations (the same linear interpolation of th
 communication points, the same film code), so the forces agree to the last bit: the measured
 difference is 0. The asserted bound, 1e-12 of the largest force, is round-off level on purpose: a
 different input treatment (another interpolation, inputs set after instead of before the step,
-derivatives on or off) moves the forces by 1e-4 and more of their size, as the last test shows.
+derivatives on or off) moves the forces by about 2 % of their size, as the third test shows.
 """
 import ctypes
 import pathlib
