@@ -11,7 +11,8 @@
 //!
 //! Connectors: the connected inputs and outputs, plus the outputs listed in `[output].variables` so
 //! that tools record them. Unconnected inputs are left out on purpose: FMPy 0.3.32 looks up a
-//! connection for every input connector and fails on one without.
+//! connection for every input connector and, finding none, fails or silently reuses the source of
+//! the input before it.
 
 use crate::cosim::setup::{parameter_value, ParamValue};
 use crate::system::{split_port, System, SystemError};
