@@ -58,7 +58,9 @@ pub struct AirFilmFmu {
     time_s: f64,
 }
 
-fn params_from(store: &Store) -> BearingParams {
+/// The film parameters from the FMU's variable values (also used by `airring orbit`, which drives
+/// the library with exactly the FMU's parameter mapping).
+pub fn params_from(store: &Store) -> BearingParams {
     let mut p = BearingParams::paper();
     p.r_m = store.real(vr::R);
     p.b_m = store.real(vr::B);

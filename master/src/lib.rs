@@ -4,10 +4,12 @@
 pub mod analysis;
 pub mod cosim;
 pub mod modal;
+pub mod orbit;
 pub mod output;
 pub mod plot;
 pub mod run;
 pub mod runup;
+pub mod ssp;
 pub mod stability;
 pub mod sweep;
 pub mod sweep_linear;

@@ -180,6 +180,11 @@ enum Command {
         #[arg(long)]
         clearance: Option<f64>,
     },
+    /// The air-film library alone along a journal orbit from a CSV file, fed as FMPy's simulate_fmu
+    /// feeds airfilm.fmu (cross-check; see docs/fmu-guide.md).
+    Orbit(master::orbit::OrbitArgs),
+    /// Write a system file as an SSP 1.0 archive (SystemStructure.ssd + the FMUs) for other tools.
+    ExportSsp(master::ssp::ExportSspArgs),
 }
 
 #[derive(clap::Args, Clone)]
@@ -519,6 +524,8 @@ fn main() -> ExitCode {
             master::stability::cli::run_cli(&args).map(|_| ExitCode::SUCCESS)
         }
         Command::Classify { dir, clearance } => classify_command(&dir, clearance),
+        Command::Orbit(args) => master::orbit::run_cli(&args).map(|_| ExitCode::SUCCESS),
+        Command::ExportSsp(args) => master::ssp::run_cli(&args).map(|_| ExitCode::SUCCESS),
     })();
     match result {
         Ok(code) => code,

@@ -1,6 +1,7 @@
 //! Project tasks: `cargo xtask <task>`.
 //!
-//! - `fmus`            build the release cdylibs and pack target/fmu/{airfilm,rotor,oscillator}.fmu
+//! - `fmus [--glibc V]` build the release cdylibs and pack target/fmu/{airfilm,rotor,oscillator}.fmu
+//!   (`--glibc 2.17`: linked by cargo-zigbuild against that glibc, for older Linux)
 //! - `descriptions`    regenerate modelDescriptions/*.xml from the variable tables (`--check`: compare only)
 //! - `test`            everything CI runs: fmt, clippy, docs, fmus, descriptions --check, cargo test, pytest
 //! - `runup [ARGS]`    build the FMUs and the master, then `airring runup ARGS` (default: the path-1 run-up)
@@ -105,7 +106,7 @@ fn test() -> Result<(), String> {
             .args(["doc", "--workspace", "--no-deps"])
             .env("RUSTDOCFLAGS", "-D warnings"),
     )?;
-    pack::fmus()?;
+    pack::fmus(None)?;
     pack::descriptions(true)?;
     run("cargo test", cargo().args(["test", "--workspace"]))?;
     let py = venv_python()?;
@@ -117,7 +118,7 @@ fn test() -> Result<(), String> {
 }
 
 fn runup(args: &[String]) -> Result<(), String> {
-    pack::fmus()?;
+    pack::fmus(None)?;
     run(
         "build master",
         cargo().args(["build", "--release", "-p", "master"]),
@@ -134,13 +135,20 @@ fn runup(args: &[String]) -> Result<(), String> {
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let result = match args.first().map(String::as_str) {
-        Some("fmus") => pack::fmus(),
+        Some("fmus") => match args.get(1).map(String::as_str) {
+            None => pack::fmus(None),
+            Some("--glibc") => match args.get(2) {
+                Some(v) => pack::fmus(Some(v)),
+                None => Err("--glibc expects a version, e.g. 2.17".into()),
+            },
+            Some(other) => Err(format!("fmus: unknown argument '{other}'")),
+        },
         Some("descriptions") => pack::descriptions(args.iter().any(|a| a == "--check")),
         Some("test") => test(),
         Some("runup") => runup(&args[1..]),
         Some("bench") => run("bench", cargo().args(["bench", "--workspace"])),
         _ => Err(
-            "usage: cargo xtask fmus | descriptions [--check] | test | runup [ARGS] | bench".into(),
+            "usage: cargo xtask fmus [--glibc V] | descriptions [--check] | test | runup [ARGS] | bench".into(),
         ),
     };
     match result {

@@ -38,10 +38,34 @@ pub fn features() -> String {
         .join(",")
 }
 
-pub fn fmus() -> Result<(), String> {
+/// Builds and packs the FMUs. With `glibc = Some("2.17")` the libraries are linked by cargo-zigbuild
+/// against that glibc version (`--target x86_64-unknown-linux-gnu.2.17`), so they load on older
+/// Linux distributions; see docs/fmu-guide.md, "Portability".
+pub fn fmus(glibc: Option<&str>) -> Result<(), String> {
     let table = fmus_table();
     let mut cmd = cargo();
-    cmd.args(["build", "--release", "--lib"]);
+    let lib_dir = match glibc {
+        None => {
+            cmd.args(["build", "--release", "--lib"]);
+            root().join("target/release")
+        }
+        Some(v) => {
+            let ok = std::process::Command::new("cargo-zigbuild")
+                .arg("--version")
+                .output()
+                .is_ok_and(|o| o.status.success());
+            if !ok {
+                return Err(
+                    "--glibc needs cargo-zigbuild and zig: `pip install ziglang==0.17.1` and \
+                     `cargo install cargo-zigbuild --version 0.24.1 --locked`"
+                        .into(),
+                );
+            }
+            cmd.args(["zigbuild", "--release", "--lib", "--target"])
+                .arg(format!("x86_64-unknown-linux-gnu.{v}"));
+            root().join("target/x86_64-unknown-linux-gnu/release")
+        }
+    };
     for (pkg, ..) in &table {
         cmd.args(["-p", pkg]);
     }
@@ -51,7 +75,7 @@ pub fn fmus() -> Result<(), String> {
     let out_dir = root().join("target/fmu");
     std::fs::create_dir_all(&out_dir).map_err(|e| e.to_string())?;
     for (_, stem, info, _) in &table {
-        let so = root().join(format!("target/release/lib{stem}.so"));
+        let so = lib_dir.join(format!("lib{stem}.so"));
         let fmu = out_dir.join(format!("{}.fmu", info.model_identifier));
         pack(info, &so, &fmu)?;
         eprintln!("    packed {}", fmu.display());

@@ -2,7 +2,7 @@
 
 use super::gauss_seidel::{CoSim, Link, Scheme, Subsystem};
 use crate::system::{split_port, split_quantity, System, SystemError};
-use fmi2::importer::{Fmu, LogHandler, LogRecord};
+use fmi2::importer::{Fmu, LogHandler, LogRecord, ModelDescription};
 use fmi2::{Causality, Status, VarType};
 use std::sync::Arc;
 
@@ -32,16 +32,24 @@ pub fn stderr_logger() -> LogHandler {
     })
 }
 
-fn set_parameter(
+/// A parameter value of a system file as the FMU receives it (Reals in the variable's SI unit).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ParamValue {
+    Real(f64),
+    Integer(i32),
+    Boolean(bool),
+}
+
+/// Checks a `parameters.NAME = value` entry against the FMU's description and converts it (a string
+/// "number unit" through the variable's declared display units); returns the value reference too.
+pub fn parameter_value(
     sys: &System,
-    fmu: &Fmu,
+    md: &ModelDescription,
     inst: &str,
-    sub: &fmi2::importer::Slave,
     name: &str,
     value: &toml::Spanned<toml::Value>,
-) -> Result<(), SystemError> {
+) -> Result<(u32, ParamValue), SystemError> {
     let field = format!("fmu '{inst}' parameters.{name}");
-    let md = &fmu.description;
     let var = md.variable(name).ok_or_else(|| {
         sys.error_at(
             value,
@@ -56,22 +64,11 @@ fn set_parameter(
             format!("'{name}' is a {} and cannot be set", var.causality.as_str()),
         ));
     }
-    let err = |e: fmi2::importer::CallError| {
-        sys.error_at(
-            value,
-            &field,
-            format!("the FMU refused the value ({e}; see its log above)"),
-        )
-    };
-    match (var.var_type, value.get_ref()) {
-        (VarType::Boolean, toml::Value::Boolean(b)) => {
-            sub.set_boolean(&[var.vr], &[*b]).map_err(err)
-        }
-        (VarType::Integer, toml::Value::Integer(i)) => {
-            let i = i32::try_from(*i)
-                .map_err(|_| sys.error_at(value, &field, "integer out of range"))?;
-            sub.set_integer(&[var.vr], &[i]).map_err(err)
-        }
+    let v = match (var.var_type, value.get_ref()) {
+        (VarType::Boolean, toml::Value::Boolean(b)) => ParamValue::Boolean(*b),
+        (VarType::Integer, toml::Value::Integer(i)) => ParamValue::Integer(
+            i32::try_from(*i).map_err(|_| sys.error_at(value, &field, "integer out of range"))?,
+        ),
         (VarType::Real, v) => {
             let si = match v {
                 toml::Value::Float(x) => *x,
@@ -113,14 +110,40 @@ fn set_parameter(
             if !si.is_finite() {
                 return Err(sys.error_at(value, &field, format!("value {si} is not finite")));
             }
-            sub.set_real(&[var.vr], &[si]).map_err(err)
+            ParamValue::Real(si)
         }
-        (t, other) => Err(sys.error_at(
-            value,
-            &field,
-            format!("expected a {} value, found {other}", t.as_str()),
-        )),
+        (t, other) => {
+            return Err(sys.error_at(
+                value,
+                &field,
+                format!("expected a {} value, found {other}", t.as_str()),
+            ))
+        }
+    };
+    Ok((var.vr, v))
+}
+
+fn set_parameter(
+    sys: &System,
+    fmu: &Fmu,
+    inst: &str,
+    sub: &fmi2::importer::Slave,
+    name: &str,
+    value: &toml::Spanned<toml::Value>,
+) -> Result<(), SystemError> {
+    let (vr, v) = parameter_value(sys, &fmu.description, inst, name, value)?;
+    match v {
+        ParamValue::Real(x) => sub.set_real(&[vr], &[x]),
+        ParamValue::Integer(i) => sub.set_integer(&[vr], &[i]),
+        ParamValue::Boolean(b) => sub.set_boolean(&[vr], &[b]),
     }
+    .map_err(|e| {
+        sys.error_at(
+            value,
+            &format!("fmu '{inst}' parameters.{name}"),
+            format!("the FMU refused the value ({e}; see its log above)"),
+        )
+    })
 }
 
 /// Loads, instantiates, parameterizes, connects and initializes everything in the system file.
