@@ -24,6 +24,10 @@ use crate::params::RotorError;
 use crate::system::MultibodySystem;
 use serde::{Deserialize, Serialize};
 
+/// Internal steps (accepted + rejected) allowed in one `advance_to` call beyond ten times the
+/// steps of size h_max the interval needs.
+pub const MAX_STEPS_PER_CALL: u64 = 20_000;
+
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Tolerances {
     pub rtol: f64,
@@ -314,7 +318,18 @@ impl GglBdf {
             self.yd[nq..].copy_from_slice(&a0);
             self.lam = lam;
         }
+        // A budget of internal steps per call: a pathological parameter set (a tiny mass under a
+        // large force) must end in a StepFailure (fmi2Discard) instead of running for hours.
+        let budget = MAX_STEPS_PER_CALL
+            + (10.0 * ((t_end - self.t) / self.tol.h_max_s).min(1e9)).max(0.0) as u64;
         while self.t < t_end {
+            if stats.steps + stats.rejected_steps >= budget {
+                return Err(RotorError::StepFailure {
+                    t_s: self.t,
+                    h_s: self.h_ctrl,
+                    reason: format!("more than {budget} internal steps in one call"),
+                });
+            }
             let remaining = t_end - self.t;
             let mut h = self.h_ctrl.min(self.tol.h_max_s);
             if let Some((tp, _)) = &self.prev {
