@@ -26,7 +26,7 @@ use serde::{Deserialize, Serialize};
 
 /// Internal steps (accepted + rejected) allowed in one `advance_to` call beyond ten times the
 /// steps of size h_max the interval needs.
-pub const MAX_STEPS_PER_CALL: u64 = 20_000;
+pub const MAX_STEPS_PER_CALL: u64 = 500;
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Tolerances {
