@@ -24,8 +24,10 @@ use crate::params::RotorError;
 use crate::system::MultibodySystem;
 use serde::{Deserialize, Serialize};
 
-/// Internal steps (accepted + rejected) allowed in one `advance_to` call beyond ten times the
-/// steps of size h_max the interval needs.
+/// Most steps the interval length adds to the budget of one call (1 s at h_max = 0.1 ms).
+pub const MAX_INTERVAL_STEPS: u64 = 100_000;
+
+/// Default of [`Tolerances::max_steps_per_call`] (CVODE's `mxstep` default is the same 500).
 pub const MAX_STEPS_PER_CALL: u64 = 500;
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -40,6 +42,12 @@ pub struct Tolerances {
     pub h_min_s: f64,
     /// false: no local error test, every step is h_max (order checks, fixed-step studies).
     pub error_control: bool,
+    /// Internal steps (accepted + rejected) allowed in one `advance_to` call beyond ten times the
+    /// steps of size h_max the interval needs (that part capped at [`MAX_INTERVAL_STEPS`]); more
+    /// end in a StepFailure. Like CVODE's `mxstep`:
+    /// a pathological parameter set (a tiny mass under a large force) must fail in milliseconds
+    /// instead of integrating for hours; very tight tolerances need a larger budget.
+    pub max_steps_per_call: u64,
 }
 
 impl Default for Tolerances {
@@ -52,6 +60,7 @@ impl Default for Tolerances {
             h_init_s: 1e-6,
             h_min_s: 1e-14,
             error_control: true,
+            max_steps_per_call: MAX_STEPS_PER_CALL,
         }
     }
 }
@@ -319,9 +328,12 @@ impl GglBdf {
             self.lam = lam;
         }
         // A budget of internal steps per call: a pathological parameter set (a tiny mass under a
-        // large force) must end in a StepFailure (fmi2Discard) instead of running for hours.
-        let budget = MAX_STEPS_PER_CALL
-            + (10.0 * ((t_end - self.t) / self.tol.h_max_s).min(1e9)).max(0.0) as u64;
+        // large force) must end in a StepFailure (fmi2Discard) instead of running for hours. Long
+        // intervals get 10 steps per h_max on top, but at most MAX_INTERVAL_STEPS: a 1e300 s
+        // doStep would otherwise be a budget of billions of steps.
+        let interval_steps = 10.0 * ((t_end - self.t) / self.tol.h_max_s);
+        let budget = self.tol.max_steps_per_call
+            + interval_steps.clamp(0.0, MAX_INTERVAL_STEPS as f64) as u64;
         while self.t < t_end {
             if stats.steps + stats.rejected_steps >= budget {
                 return Err(RotorError::StepFailure {

@@ -57,6 +57,10 @@ pub struct Imbalance {
 }
 
 /// Rotor-system parameters, SI units. Defaults (`paper()`) are MODEL.md section 2 / path 1.
+/// Largest [`RotorParams::max_steps_per_call`]: 1e6 BDF steps are minutes of CPU, beyond that a
+/// call that does not finish is a parameter error, not a budget question.
+pub const MAX_STEPS_LIMIT: u64 = 1_000_000;
+
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct RotorParams {
     /// Rotor mass (shaft and both wheels).
@@ -94,6 +98,14 @@ pub struct RotorParams {
     pub atol_vel: f64,
     /// Largest internal step [s].
     pub h_max_s: f64,
+    /// Internal steps allowed per communication step beyond 10 interval/h_max (at most 1e5; CVODE's mxstep);
+    /// exceeding it is a StepFailure (fmi2Discard). Raise it together with very tight tolerances.
+    #[serde(default = "default_max_steps")]
+    pub max_steps_per_call: u64,
+}
+
+fn default_max_steps() -> u64 {
+    crate::integrator::MAX_STEPS_PER_CALL
 }
 
 impl RotorParams {
@@ -130,6 +142,7 @@ impl RotorParams {
             atol: 1e-8,
             atol_vel: 1e-5,
             h_max_s: 1e-4,
+            max_steps_per_call: crate::integrator::MAX_STEPS_PER_CALL,
         }
     }
 
@@ -225,6 +238,13 @@ impl RotorParams {
             if v <= 0.0 {
                 return bad(name, v, "must be > 0");
             }
+        }
+        if self.max_steps_per_call == 0 || self.max_steps_per_call > MAX_STEPS_LIMIT {
+            return bad(
+                "max_internal_steps",
+                self.max_steps_per_call as f64,
+                "must be 1 ..= 1000000",
+            );
         }
         let dist = &self.disturbance;
         if !(dist.force_rms_n.is_finite() && dist.force_rms_n >= 0.0) {

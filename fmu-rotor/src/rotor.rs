@@ -272,6 +272,7 @@ impl Rotor {
             h_init_s: 1e-6_f64.min(params.h_max_s),
             h_min_s: 1e-14,
             error_control: true,
+            max_steps_per_call: params.max_steps_per_call,
         };
         let integ = GglBdf::new(sys, tol, 0.0, x0, v0, vec![0.0; N_INPUTS])?;
         let profile = SpeedProfile {

@@ -64,6 +64,7 @@ pub mod vr {
     pub const N_REJECTED: u32 = 1;
     pub const N_NEWTON: u32 = 2;
     pub const DIST_SEED: u32 = 3;
+    pub const MAX_STEPS: u32 = 4;
 }
 
 const DOC: &str = include_str!("shell_doc.html");
@@ -101,6 +102,8 @@ fn params_from(s: &Store) -> RotorParams {
     p.rtol = s.real(vr::RTOL);
     p.atol = s.real(vr::ATOL);
     p.h_max_s = s.real(vr::H_MAX);
+    // The Integer's range (1 ..= 1e6) is checked by the FMI layer on every set.
+    p.max_steps_per_call = s.integer(vr::MAX_STEPS).max(0) as u64;
     p.disturbance = Disturbance {
         force_rms_n: s.real(vr::DIST_FORCE),
         interval_s: s.real(vr::DIST_INTERVAL),
@@ -465,6 +468,13 @@ impl Model for RotorFmu {
                 p.disturbance.seed as i32,
                 "seed of the disturbance generator (other seeds: independent realisations)",
             ),
+            V::integer_parameter(
+                "max_internal_steps",
+                vr::MAX_STEPS,
+                p.max_steps_per_call as i32,
+                "internal BDF steps allowed per fmi2DoStep beyond 10 x interval/h_max (that part at most 100000); more end in fmi2Discard (raise it with very tight tolerances)",
+            )
+            .range(Some(1.0), Some(crate::params::MAX_STEPS_LIMIT as f64)),
         ]);
         ModelInfo {
             model_name: "rotor",

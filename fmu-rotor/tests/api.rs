@@ -24,6 +24,7 @@ fn invalid_parameters_are_reported() {
             "imbalance mass",
             Box::new(|p| p.imbalance[0].mass_kg = -1e-3),
         ),
+        ("max_internal_steps", Box::new(|p| p.max_steps_per_call = 0)),
     ];
     for (name, f) in cases {
         let mut p = RotorParams::paper();
@@ -36,6 +37,40 @@ fn invalid_parameters_are_reported() {
         );
     }
     assert!(RotorParams::paper().validate().is_ok());
+}
+
+#[test]
+fn the_step_budget_ends_a_call_that_needs_too_many_steps() {
+    // rtol 1e-11 needs ~2500 BDF2 steps per 100 us: beyond the default budget of
+    // 500 + 10 x (100 us / h_max), within a raised one.
+    let mut p = RotorParams::paper();
+    p.rtol = 1e-11;
+    p.atol = 1e-16;
+    p.atol_vel = 1e-13;
+    let mut r = Rotor::new(p.clone()).unwrap();
+    let e = r.advance(0.0, 1e-4, &forces).unwrap_err();
+    println!("{e}");
+    assert!(
+        matches!(&e, RotorError::StepFailure { reason, .. } if reason.contains("internal steps")),
+        "{e}"
+    );
+    p.max_steps_per_call = 20_000;
+    let mut r = Rotor::new(p).unwrap();
+    let st = r.advance(0.0, 1e-4, &forces).unwrap();
+    println!("{st:?}");
+    assert!(
+        st.steps > 510,
+        "the raised budget was needed: {} steps",
+        st.steps
+    );
+    // An absurdly long interval gets a capped budget, not billions of steps.
+    let mut r = Rotor::new(RotorParams::paper()).unwrap();
+    let e = r.advance(0.0, 1e300, &forces).unwrap_err();
+    println!("{e}");
+    assert!(
+        matches!(&e, RotorError::StepFailure { reason, .. } if reason.contains("100500 internal steps")),
+        "{e}"
+    );
 }
 
 #[test]

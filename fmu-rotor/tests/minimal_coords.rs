@@ -122,6 +122,8 @@ fn ggl_matches_minimal_coordinates() {
     p.rtol = 1e-11;
     p.atol = 1e-16;
     p.atol_vel = 1e-13;
+    // These tolerances need ~2500 internal steps per 100 us communication step.
+    p.max_steps_per_call = 20_000;
     let films = [0, 1].map(|i| FilmCoefficients {
         k_n_m: K_FILM[i],
         d_n_s_m: D_FILM[i],

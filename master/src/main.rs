@@ -82,6 +82,11 @@ struct RunupArgs {
     /// Step the two air films one after the other (one core) instead of in two threads.
     #[arg(long)]
     serial_films: bool,
+    /// Macro-step control: "RTOL,ATOL_N" of the extrapolated bearing forces (a step whose
+    /// extrapolated force misses the film's by more than ATOL + RTOL |F| is retried in halves,
+    /// down to 1/64), or "off" for a fixed macro step [default: 0.1,1]
+    #[arg(long)]
+    step_control: Option<String>,
     /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
     #[arg(long)]
     fmu_dir: Option<PathBuf>,
@@ -261,6 +266,9 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     s.disturbance_seed = a.disturbance_seed.unwrap_or(s.disturbance_seed);
     s.jacobi = a.jacobi;
     s.serial_films = a.serial_films;
+    if let Some(sc) = &a.step_control {
+        s.step_control = master::runup::parse_step_control(sc)?;
+    }
     if let Some(m) = &a.mesh {
         (s.n_elem_phi, s.n_elem_z) = master::runup::parse_mesh(m, "--mesh")?;
     }

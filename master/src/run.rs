@@ -2,6 +2,7 @@
 //! checkpoints, and the summary at the end (also when interrupted or failed).
 
 use crate::analysis::{classify, RunSeries};
+use crate::cosim::gauss_seidel::ControlStats;
 use crate::cosim::setup::{build, stderr_logger};
 use crate::output::checkpoint::{self, MasterState};
 use crate::output::timeseries::{self, TimeSeriesWriter};
@@ -43,6 +44,8 @@ pub struct RunReport {
     pub master_overhead_s: f64,
     /// Parts of the master's own time: state saving, coupling (polynomials, get/set), thread hand-over.
     pub master_parts_s: Vec<(String, f64)>,
+    /// What the macro-step control did (None: fixed macro step).
+    pub control: Option<ControlStats>,
 }
 
 /// Output sample index -> time; computed from the index so that times do not drift.
@@ -143,6 +146,7 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
             .cosim
             .restore_serialized(t, &states, hist)
             .map_err(|e| e.to_string())?;
+        built.cosim.level = m.refine_level;
         let writer = TimeSeriesWriter::resume(&csv_path, m.csv_bytes)
             .map_err(|e| format!("{}: {e}", csv_path.display()))?;
         let (_, old) = timeseries::read(&csv_path).map_err(|e| e.to_string())?;
@@ -236,6 +240,7 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
                         .map(|s| checkpoint::encode_history(&s.history))
                         .collect(),
                     wall_before_s: wall_before + start.elapsed().as_secs_f64(),
+                    refine_level: built.cosim.level,
                 };
                 checkpoint::write(&opts.out_dir, &names, &states, &m)
                     .map_err(|e| format!("checkpoint: {e}"))?;
@@ -260,6 +265,7 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
     report.t_end_s = built.cosim.t;
     report.macro_steps = step_index;
     report.retries = built.cosim.retries;
+    report.control = built.cosim.control.map(|_| built.cosim.control_stats);
     report.wall_time_s = wall_before + start.elapsed().as_secs_f64();
     report.wall_per_subsystem_s = built
         .cosim
@@ -336,6 +342,7 @@ fn write_summary(
         "t_end_s": report.t_end_s,
         "macro_steps": report.macro_steps,
         "retried_macro_steps": report.retries,
+        "macro_step_control": report.control,
         "wall_time_s": report.wall_time_s,
         "wall_in_fmus_s": report.wall_per_subsystem_s.iter().map(|(n, s)| (n.clone(), serde_json::json!(s))).collect::<serde_json::Map<_, _>>(),
         "master_overhead_s": report.master_overhead_s,

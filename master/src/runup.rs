@@ -33,6 +33,9 @@ pub struct RunupSettings {
     /// Step the two air films one after the other instead of in two threads (for sweeps that
     /// run one run-up per core).
     pub serial_films: bool,
+    /// Macro-step control by the coupling error of the extrapolated forces: [rtol, atol in N];
+    /// None = fixed macro step. Carries a journal through impacts on its ring (docs/convergence.md).
+    pub step_control: Option<[f64; 2]>,
 }
 
 impl RunupSettings {
@@ -67,6 +70,7 @@ impl RunupSettings {
             output_interval_us: 50.0,
             jacobi: false,
             serial_films: false,
+            step_control: Some(DEFAULT_STEP_CONTROL),
         })
     }
 
@@ -175,6 +179,9 @@ impl RunupSettings {
             self.interpolation_order
         )
         .unwrap();
+        if let Some([rtol, atol]) = self.step_control {
+            writeln!(s, "step_control = {{ rtol = {rtol:?}, atol = {atol:?} }}").unwrap();
+        }
         let vars: Vec<String> = RECORDED.iter().map(|v| format!("\"{v}\"")).collect();
         writeln!(
             s,
@@ -185,6 +192,24 @@ impl RunupSettings {
         .unwrap();
         s
     }
+}
+
+/// `--step-control`: "off" or "RTOL,ATOL_N" (finite, >= 0, not both 0).
+pub fn parse_step_control(text: &str) -> Result<Option<[f64; 2]>, String> {
+    if text.trim() == "off" {
+        return Ok(None);
+    }
+    let bad = || format!("--step-control '{text}': expected RTOL,ATOL_N (e.g. 0.1,1) or off");
+    let (r, a) = text.split_once(',').ok_or_else(bad)?;
+    let r: f64 = r.trim().parse().map_err(|_| bad())?;
+    let a: f64 = a.trim().parse().map_err(|_| bad())?;
+    let ok = |x: f64| x.is_finite() && x >= 0.0;
+    if !(ok(r) && ok(a) && r + a > 0.0) {
+        return Err(format!(
+            "--step-control '{text}': RTOL and ATOL_N must be finite, >= 0 and not both 0"
+        ));
+    }
+    Ok(Some([r, a]))
 }
 
 /// A film mesh per lobe written "NxM" (elements along the lobe x across the half width).
@@ -230,6 +255,8 @@ pub const RECORDED: &[&str] = &[
 
 /// Default macro step and polynomial orders (see docs/convergence.md for the study behind them).
 pub const DEFAULT_MACRO_STEP_US: f64 = 20.0;
+/// Default macro-step control: [rtol, atol in N] of the extrapolated bearing forces.
+pub const DEFAULT_STEP_CONTROL: [f64; 2] = [0.1, 1.0];
 pub const DEFAULT_EXTRAPOLATION_ORDER: u8 = 1;
 pub const DEFAULT_INTERPOLATION_ORDER: u8 = 1;
 /// Default journal disturbance [mN] (see docs/stability.md, "The whirl seed").

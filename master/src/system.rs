@@ -17,6 +17,9 @@
 //! stop_time = "3 s"
 //! extrapolation_order = 1            # 0, 1, 2: inputs from subsystems not yet stepped
 //! interpolation_order = 1            # 0, 1, 2: inputs from subsystems already stepped (Gauss-Seidel)
+//! # optional: refine the macro step (down to 1/64) where an extrapolated input misses the
+//! # actual output at T_N+1 by more than atol + rtol |u| (units of those inputs; needs rollback)
+//! step_control = { rtol = 0.1, atol = 1.0 }
 //!
 //! [output]
 //! interval = "100 us"
@@ -64,6 +67,17 @@ pub struct AlgorithmEntry {
     /// Step independent subsystems (the two air films) in parallel threads.
     #[serde(default = "yes")]
     pub parallel: bool,
+    /// Macro-step control by the coupling error (off when absent).
+    #[serde(default)]
+    pub step_control: Option<Spanned<StepControlEntry>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StepControlEntry {
+    pub rtol: f64,
+    /// In the units of the extrapolated inputs.
+    pub atol: f64,
 }
 
 fn default_kind() -> Spanned<String> {

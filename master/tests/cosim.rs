@@ -145,6 +145,66 @@ fn discarded_steps_are_rolled_back_and_retried_in_halves() {
     assert!((rows.last().unwrap()[1] - exact_xa(0.2)).abs() < 1e-4);
 }
 
+/// Adds macro-step control to a system text from `coupled`.
+fn with_control(text: &str, rtol: f64, atol: f64) -> String {
+    let at = "interpolation_order = ";
+    let i = text.find(at).expect("an interpolation order") + at.len() + 2;
+    format!(
+        "{}step_control = {{ rtol = {rtol:?}, atol = {atol:?} }}\n{}",
+        &text[..i],
+        &text[i..]
+    )
+}
+
+fn run_text(name: &str, text: &str) -> (master::run::RunReport, Vec<Vec<f64>>) {
+    let dir = tmp(name);
+    let sys = dir.join("system.toml");
+    std::fs::write(&sys, text).unwrap();
+    let report = run(&sys, &opts(&dir), false).unwrap();
+    assert!(report.completed, "{report:?}");
+    let (_, rows) = master::output::timeseries::read(&dir.join("timeseries.csv")).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    (report, rows)
+}
+
+#[test]
+fn macro_step_control_refines_only_where_the_coupling_error_needs_it() {
+    let base = coupled("gauss-seidel", 0.02, 1, 1.0).replace("interval = 1.0", "interval = 0.02");
+    let err = |rows: &[Vec<f64>]| {
+        rows.iter()
+            .map(|r| (r[1] - exact_xa(r[0])).abs())
+            .fold(0.0, f64::max)
+    };
+    let (off, rows_off) = run_text("ctl-off", &base);
+    assert!(off.control.is_none());
+    // A tolerance the order-1 extrapolation always meets: bit-identical to a fixed step.
+    let (loose, rows_loose) = run_text("ctl-loose", &with_control(&base, 0.0, 1e3));
+    let st = loose.control.unwrap();
+    assert_eq!((st.refined_macro_steps, st.rejected), (0, 0), "{st:?}");
+    assert!(
+        rows_off == rows_loose,
+        "a control that never acts changed the series"
+    );
+    // The order-1 extrapolation error per 20 ms step is up to ~1e-3 m: atol 1e-4 m needs sub-steps.
+    let (tight, rows_tight) = run_text("ctl-tight", &with_control(&base, 0.0, 1e-4));
+    let st = tight.control.unwrap();
+    let (e_off, e_tight) = (err(&rows_off), err(&rows_tight));
+    println!("fixed 20 ms: error {e_off:.3e}; controlled (atol 1e-4): error {e_tight:.3e}, {st:?}");
+    assert!(st.rejected > 0 && st.refined_macro_steps > 0, "{st:?}");
+    assert!((1..6).contains(&st.deepest_level), "{st:?}");
+    assert!(
+        st.max_error_ratio <= 1.0,
+        "accepted above tolerance: {st:?}"
+    );
+    assert!(
+        e_tight < e_off / 10.0,
+        "control did not reduce the error: {e_off} -> {e_tight}"
+    );
+    // The output grid is kept: 51 samples at 20 ms, the last one at 1 s exactly.
+    assert_eq!(rows_tight.len(), 51);
+    assert!((rows_tight.last().unwrap()[0] - 1.0).abs() < 1e-12);
+}
+
 #[test]
 fn a_step_that_always_fails_stops_the_run_with_the_reason() {
     let dir = tmp("fail");
@@ -200,6 +260,14 @@ fn system_file_errors_name_file_line_and_field() {
             ":4: fmu.path:",
         ),
         (
+            with_control(&good, 0.1, 1.0).replace("[algorithm]", "[algorithm]\nrollback = false"),
+            "algorithm.step_control: needs rollback = true",
+        ),
+        (
+            with_control(&good, -0.1, 1.0),
+            "algorithm.step_control: rtol and atol must be finite",
+        ),
+        (
             good.replace("x0 = \"1 m\"", "x0 = \"1e999 m\""),
             "is not finite",
         ),
@@ -246,6 +314,46 @@ fn checkpoint_resume_gives_the_uninterrupted_series() {
     o.checkpoint_every_s = Some(0.05);
     let second = run(&dir_cut.join("system.toml"), &o, true).unwrap();
     assert!(second.completed);
+    let full = std::fs::read(dir_full.join("timeseries.csv")).unwrap();
+    let resumed = std::fs::read(dir_cut.join("timeseries.csv")).unwrap();
+    assert!(
+        full == resumed,
+        "resumed series differs from the uninterrupted one"
+    );
+}
+
+#[test]
+fn checkpoint_resume_keeps_the_refinement_of_the_step_control() {
+    let dir_full = tmp("ctl-full");
+    let dir_cut = tmp("ctl-cut");
+    let text = with_control(
+        &coupled("gauss-seidel", 0.01, 1, 0.3).replace("interval = 0.3", "interval = 0.01"),
+        0.0,
+        1e-5,
+    );
+    let sys = dir_full.join("input.toml");
+    std::fs::write(&sys, &text).unwrap();
+    let full_report = run(&sys, &opts(&dir_full), false).unwrap();
+    assert!(full_report.control.unwrap().refined_macro_steps > 0);
+    let mut o = opts(&dir_cut);
+    o.checkpoint_every_s = Some(0.05);
+    o.halt_at_s = Some(0.1234);
+    assert!(run(&sys, &o, false).unwrap().interrupted);
+    let cp: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(dir_cut.join("checkpoint").join("master.json")).unwrap(),
+    )
+    .unwrap();
+    assert!(
+        cp["refine_level"].as_u64().unwrap() > 0,
+        "checkpointed at the nominal step: {cp}"
+    );
+    let mut o = opts(&dir_cut);
+    o.checkpoint_every_s = Some(0.05);
+    assert!(
+        run(&dir_cut.join("system.toml"), &o, true)
+            .unwrap()
+            .completed
+    );
     let full = std::fs::read(dir_full.join("timeseries.csv")).unwrap();
     let resumed = std::fs::read(dir_cut.join("timeseries.csv")).unwrap();
     assert!(

@@ -7,10 +7,11 @@ use std::path::PathBuf;
 use std::sync::{Arc, Mutex};
 
 pub fn workspace_root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
+    // Cargo sets CARGO_MANIFEST_DIR for the running test too; the compile-time value would be
+    // stale in a binary reused from another checkout sharing this target directory.
+    let manifest =
+        std::env::var_os("CARGO_MANIFEST_DIR").unwrap_or_else(|| env!("CARGO_MANIFEST_DIR").into());
+    PathBuf::from(manifest).parent().unwrap().to_path_buf()
 }
 
 /// Path of a packed FMU; panics with the fix if it is missing.

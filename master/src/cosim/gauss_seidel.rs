@@ -10,6 +10,14 @@
 //! Consecutive subsystems in the order that do not feed each other form a group and are stepped in
 //! parallel (the two air films). A discarded step rolls every FMU back to T_N (FMU states saved at
 //! each macro point) and retries the interval in two halves, down to 1/64 of the macro step.
+//!
+//! Macro-step control (optional, [`StepControl`]): after each step the extrapolated inputs are
+//! compared with the outputs the sources then produced at T_N+1. A difference above
+//! `atol + rtol |u|` rejects the step like a Discard (roll back, two halves). The refinement level
+//! reached is kept for the following macro steps and relaxed one level at a time once the error is
+//! well below tolerance. This is what carries a journal through an impact on its ring: the contact
+//! force (stiffness ~1e10 N/m against a ring of 50 g) cannot be coupled explicitly at 20 us, but
+//! is at ~1 us; steps without contact keep the nominal macro step.
 
 use super::parallel::StepPool;
 use super::polynomial::{taylor_derivatives, taylor_value};
@@ -152,6 +160,13 @@ pub struct CoSim {
     pub macro_steps: u64,
     pub retries: u64,
     pub timing: Timing,
+    /// Macro-step control by the coupling error; None: fixed macro step (Discard still halves).
+    pub control: Option<StepControl>,
+    /// Current refinement: the macro step is covered by 2^level sub-steps.
+    pub level: u32,
+    pub control_stats: ControlStats,
+    /// Scratch: extrapolated inputs' predictions at T_N+1 as (source, slot, value).
+    predicted: Vec<(usize, usize, f64)>,
     pool: Option<StepPool>,
     /// Scratch: which subsystems have stepped in the current macro step.
     stepped: Vec<bool>,
@@ -162,8 +177,34 @@ pub struct CoSim {
     _fmus: Vec<Fmu>,
 }
 
-const MAX_HALVINGS: u32 = 6;
+/// Deepest refinement: 1/2^MAX_HALVINGS of the macro step (0.31 us at 20 us).
+pub const MAX_HALVINGS: u32 = 6;
 
+/// Relax the refinement by one level when the largest error ratio of a macro step is below this
+/// (halving the step divides an order-1 extrapolation error by 4: the coarser level then still
+/// keeps the error below 1/2 of the tolerance).
+const RELAX_BELOW: f64 = 0.125;
+
+/// Tolerance of the coupling error |extrapolated input - actual output| at T_N+1, in the units of
+/// the extrapolated inputs (forces in N for the run-up).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepControl {
+    pub rtol: f64,
+    pub atol: f64,
+}
+
+/// What the macro-step control did over a run.
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
+pub struct ControlStats {
+    /// Attempts rejected for their coupling error.
+    pub rejected: u64,
+    /// Macro steps covered by more than one sub-step.
+    pub refined_macro_steps: u64,
+    /// Deepest refinement level used (sub-step = macro step / 2^level).
+    pub deepest_level: u32,
+    /// Largest error ratio of an accepted attempt.
+    pub max_error_ratio: f64,
+}
 /// Where the master's own time goes (wall time), for the run summary.
 #[derive(Clone, Debug, Default)]
 pub struct Timing {
@@ -176,6 +217,13 @@ pub struct Timing {
     /// Sum over macro steps and groups of the slowest member's fmi2DoStep: the time the FMUs
     /// themselves need on as many cores as the largest group; the rest of the wall time is the master's.
     pub critical_path: Duration,
+}
+
+/// Accepted sub-steps of one macro step: largest error ratio and deepest level.
+#[derive(Clone, Copy, Debug, Default)]
+struct Accepted {
+    worst: f64,
+    deepest: u32,
 }
 
 /// The last saved point: time, coupling histories, and the steps taken since (for the replay).
@@ -229,6 +277,10 @@ impl CoSim {
             macro_steps: 0,
             retries: 0,
             timing: Timing::default(),
+            control: None,
+            level: 0,
+            control_stats: ControlStats::default(),
+            predicted: vec![],
             pool,
             stepped: vec![],
             save_every: 200,
@@ -301,6 +353,10 @@ impl CoSim {
             let u0 = hist[anchor_idx].1[l.from_slot];
             debug_assert_eq!(hist[anchor_idx].0, t);
             let d = taylor_derivatives(&pts[..used], t);
+            if self.control.is_some() && !stepped[l.from] {
+                self.predicted
+                    .push((l.from, l.from_slot, taylor_value(u0, d, h)));
+            }
             scratch.push(l.to_vr);
             if can_interpolate {
                 values.push(u0);
@@ -338,6 +394,7 @@ impl CoSim {
         let mut stepped = std::mem::take(&mut self.stepped);
         stepped.clear();
         stepped.resize(self.subs.len(), false);
+        self.predicted.clear();
         let groups = std::mem::take(&mut self.groups);
         let r = self.try_groups(&groups, t, h, &mut stepped);
         self.groups = groups;
@@ -457,11 +514,39 @@ impl CoSim {
         Ok(replay)
     }
 
+    /// Largest |predicted - actual| / (atol + rtol |actual|) over the inputs extrapolated in the
+    /// attempt just made (0 without control). NaN counts as infinitely large.
+    fn coupling_error_ratio(&self) -> f64 {
+        let Some(ctl) = self.control else {
+            return 0.0;
+        };
+        self.predicted
+            .iter()
+            .map(|&(from, slot, pred)| {
+                let actual = self.subs[from].history.back().expect("stepped").1[slot];
+                let r = (pred - actual).abs() / (ctl.atol + ctl.rtol * actual.abs());
+                if r.is_nan() {
+                    f64::INFINITY
+                } else {
+                    r
+                }
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// Advances by one macro step `h`. With rollback on, FMU states are saved every `save_every`
-    /// macro steps (saving an air-film state copies ~1 MB, too much for every step); a discarded step
-    /// restores that point, replays the steps since (the FMUs are deterministic, so the replay is
-    /// exact), and retries the failed interval in two halves, recursively.
+    /// macro steps (saving an air-film state copies ~1 MB, too much for every step); a discarded
+    /// (or, under [`StepControl`], too inaccurate) step restores that point, replays the steps since
+    /// (the FMUs are deterministic, so the replay is exact), and retries the failed interval in two
+    /// halves, recursively. Under control, a refined level covers the step with 2^level sub-steps.
     pub fn step(&mut self, h: f64) -> Result<(), StepError> {
+        if self.control.is_some() && self.level > 0 {
+            let mut acc = Accepted::default();
+            self.cover(h, 0, self.level, &mut acc)?;
+            self.finish_refined(acc);
+            self.macro_steps += 1;
+            return Ok(());
+        }
         if self.rollback
             && self
                 .saved
@@ -470,47 +555,104 @@ impl CoSim {
         {
             self.save_states()?;
         }
-        match self.try_step(h) {
-            Ok(()) => {}
-            Err(e) if self.rollback && e.error.status == Status::Discard => {
-                let t_fail = self.t;
-                eprintln!(
-                    "{e}: rolling back and retrying [{t_fail} s, {} s] in halves",
-                    t_fail + h
-                );
+        let attempt = self.try_step(h).map(|()| self.coupling_error_ratio());
+        match &attempt {
+            Ok(ratio) if *ratio <= 1.0 => {
+                let st = &mut self.control_stats;
+                st.max_error_ratio = st.max_error_ratio.max(*ratio);
+                if let Some(s) = self.saved.as_mut() {
+                    s.replay.push(h);
+                }
+            }
+            Ok(_)
+            | Err(StepError {
+                error:
+                    CallError {
+                        status: Status::Discard,
+                        ..
+                    },
+                ..
+            }) if self.rollback => {
+                let t_fail = self.t - if attempt.is_ok() { h } else { 0.0 };
+                match attempt {
+                    Err(e) => eprintln!(
+                        "{e}: rolling back and retrying [{t_fail} s, {} s] in halves",
+                        t_fail + h
+                    ),
+                    Ok(_) => self.control_stats.rejected += 1,
+                }
                 let replay = self.restore_saved()?;
                 for dt in replay {
                     self.try_step(dt)?;
                     self.saved.as_mut().expect("saved").replay.push(dt);
                 }
                 self.retries += 1;
-                self.step_halves(h, 1)?;
+                let mut acc = Accepted::default();
+                self.cover(h, 0, 1, &mut acc)?;
+                if self.control.is_some() {
+                    self.finish_refined(acc);
+                }
+                // The next macro step saves afresh: the replay list of this point would be inconsistent.
+                self.saved = None;
             }
-            Err(e) => return Err(e),
-        }
-        if let Some(s) = self.saved.as_mut() {
-            s.replay.push(h);
+            Ok(_) => unreachable!("control requires rollback (checked when the system is built)"),
+            Err(_) => return attempt.map(|_| ()),
         }
         self.macro_steps += 1;
         Ok(())
     }
 
-    /// Retries [t, t+h] as two halves, each saved before it is tried, down to h / 2^MAX_HALVINGS.
-    fn step_halves(&mut self, h: f64, depth: u32) -> Result<(), StepError> {
-        for _ in 0..2 {
-            let half = h / 2.0;
-            self.save_states()?;
-            match self.try_step(half) {
-                Ok(()) => {}
-                Err(e) if e.error.status == Status::Discard && depth < MAX_HALVINGS => {
-                    self.restore_saved()?;
-                    self.step_halves(half, depth + 1)?;
-                }
-                Err(e) => return Err(e),
-            }
+    /// After a refined macro step: keep the deepest level it needed, or relax by one level when
+    /// every sub-step was well within tolerance.
+    fn finish_refined(&mut self, acc: Accepted) {
+        let st = &mut self.control_stats;
+        st.refined_macro_steps += 1;
+        st.deepest_level = st.deepest_level.max(acc.deepest);
+        st.max_error_ratio = st.max_error_ratio.max(acc.worst);
+        self.level = acc.deepest;
+        if acc.worst < RELAX_BELOW && self.level > 0 {
+            self.level -= 1;
         }
-        // The next macro step saves afresh: the replay list of this point would be inconsistent.
         self.saved = None;
+    }
+
+    /// Covers [t, t+h] with sub-steps at depth `min_depth` or deeper (a sub-step at depth k is
+    /// h_macro / 2^k), each saved before it is tried; a Discard or a coupling error above
+    /// tolerance splits a sub-step in two, down to depth MAX_HALVINGS. At that depth a step with
+    /// too large a coupling error is accepted (counted in the error ratio of the summary).
+    fn cover(
+        &mut self,
+        h: f64,
+        depth: u32,
+        min_depth: u32,
+        acc: &mut Accepted,
+    ) -> Result<(), StepError> {
+        if depth < min_depth {
+            for _ in 0..2 {
+                self.cover(h / 2.0, depth + 1, min_depth, acc)?;
+            }
+            return Ok(());
+        }
+        self.save_states()?;
+        let split = match self.try_step(h) {
+            Ok(()) => {
+                let ratio = self.coupling_error_ratio();
+                if ratio > 1.0 && depth < MAX_HALVINGS {
+                    self.control_stats.rejected += 1;
+                    true
+                } else {
+                    acc.worst = acc.worst.max(ratio);
+                    acc.deepest = acc.deepest.max(depth);
+                    false
+                }
+            }
+            Err(e) if e.error.status == Status::Discard && depth < MAX_HALVINGS => true,
+            Err(e) => return Err(e),
+        };
+        if split {
+            self.restore_saved()?;
+            self.cover(h, depth, depth + 1, acc)?;
+        }
         Ok(())
     }
 

@@ -1,6 +1,6 @@
 //! From a system file to instantiated, initialized FMUs wired together.
 
-use super::gauss_seidel::{CoSim, Link, Scheme, Subsystem};
+use super::gauss_seidel::{CoSim, Link, Scheme, StepControl, Subsystem};
 use crate::system::{split_port, split_quantity, System, SystemError};
 use fmi2::importer::{Fmu, LogHandler, LogRecord, ModelDescription};
 use fmi2::{Causality, Status, VarType};
@@ -302,7 +302,32 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
         ));
     }
 
-    let cosim = CoSim::initialize(
+    let control = match &alg.step_control {
+        None => None,
+        Some(sc) => {
+            let c = sc.get_ref();
+            let ok = |x: f64| x.is_finite() && x >= 0.0;
+            if !(ok(c.rtol) && ok(c.atol) && c.rtol + c.atol > 0.0) {
+                return Err(sys.error_at(
+                    sc,
+                    "algorithm.step_control",
+                    "rtol and atol must be finite, >= 0 and not both 0",
+                ));
+            }
+            if !alg.rollback {
+                return Err(sys.error_at(
+                    sc,
+                    "algorithm.step_control",
+                    "needs rollback = true (a rejected step is rolled back)",
+                ));
+            }
+            Some(StepControl {
+                rtol: c.rtol,
+                atol: c.atol,
+            })
+        }
+    };
+    let mut cosim = CoSim::initialize(
         subs,
         order,
         scheme,
@@ -318,6 +343,7 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
             sys.path.display()
         ))
     })?;
+    cosim.control = control;
     Ok(Built {
         cosim,
         macro_step_s,

@@ -17,6 +17,9 @@ pub struct MasterState {
     pub histories: Vec<Vec<(u64, Vec<u64>)>>,
     /// Wall time already spent before this checkpoint.
     pub wall_before_s: f64,
+    /// Refinement level of the macro-step control (0 in checkpoints written before it existed).
+    #[serde(default)]
+    pub refine_level: u32,
 }
 
 pub const FORMAT: u32 = 1;
