@@ -2,7 +2,7 @@
 //! the air-film library alone and prints the solver work per phase: the film's cost along a real
 //! trajectory without the master. Used to profile (perf record) and to compare solver policies.
 //!
-//! cargo run --release -p fmu-airfilm --example replay -- RUN_DIR/timeseries.csv C [t_end_s [t_start_s]]
+//! cargo run --release -p fmu-airfilm --example replay -- RUN_DIR/timeseries.csv C [t_end_s [t_start_s [h_us]]]
 //!
 //! With a start time the film starts there from ambient pressure; the first 2 ms (its start-up
 //! transient) are not counted.
@@ -64,10 +64,14 @@ fn main() {
         }
     };
     let mut film = AirFilm::new(BearingParams::paper()).unwrap();
-    let h = 10e-6;
+    // Macro step [s]: the run-up default (20 us) unless given.
+    let h: f64 = args
+        .get(5)
+        .map(|s| s.parse::<f64>().unwrap() * 1e-6)
+        .unwrap_or(20e-6);
     let t0 = t_start.max(t[0]);
     let n = ((t[t.len() - 1] - t0) / h).floor() as usize;
-    let phase = 10_000;
+    let phase = (0.1 / h).round() as usize; // 100 ms phases
     let warm = if t_start > 0.0 { 200 } else { 0 };
     for k in 0..warm {
         film.advance(t0 + k as f64 * h, h, &journal).unwrap();

@@ -108,7 +108,15 @@ impl Subsystem {
         };
         v.resize(self.coupling_vrs.len(), 0.0);
         self.slave.get_real(&self.coupling_vrs, &mut v)?;
+        // A NaN or infinite output would travel silently into the other FMUs' inputs.
+        let finite = v.iter().all(|x| x.is_finite());
         self.history.push_back((t, v));
+        if !finite {
+            return Err(CallError {
+                function: "fmi2GetReal (a coupling output is NaN or infinite)",
+                status: Status::Error,
+            });
+        }
         Ok(())
     }
 
@@ -172,6 +180,10 @@ pub struct CoSim {
     stepped: Vec<bool>,
     /// Macro steps between saved FMU states when rollback is on.
     pub save_every: usize,
+    /// Macro steps left in which states are saved at every step: set after a rejection, because
+    /// where the control acted once (a whirl grazing the ring) it acts again within ~100 steps,
+    /// and a replay of up to `save_every` steps per rejection costs more than saving each step.
+    save_burst: u64,
     saved: Option<Saved>,
     /// The loaded FMUs (their libraries must outlive the instances).
     _fmus: Vec<Fmu>,
@@ -184,6 +196,9 @@ pub const MAX_HALVINGS: u32 = 6;
 /// (halving the step divides an order-1 extrapolation error by 4: the coarser level then still
 /// keeps the error below 1/2 of the tolerance).
 const RELAX_BELOW: f64 = 0.125;
+
+/// Macro steps with a state save at every step after a rejection by the control (see `save_burst`).
+const SAVE_BURST_STEPS: u64 = 1000;
 
 /// Tolerance of the coupling error |extrapolated input - actual output| at T_N+1, in the units of
 /// the extrapolated inputs (forces in N for the run-up).
@@ -284,6 +299,7 @@ impl CoSim {
             pool,
             stepped: vec![],
             save_every: 200,
+            save_burst: 0,
             saved: None,
             _fmus: fmus,
         };
@@ -551,10 +567,11 @@ impl CoSim {
             && self
                 .saved
                 .as_ref()
-                .is_none_or(|s| s.replay.len() >= self.save_every)
+                .is_none_or(|s| s.replay.len() >= self.save_every || self.save_burst > 0)
         {
             self.save_states()?;
         }
+        self.save_burst = self.save_burst.saturating_sub(1);
         let attempt = self.try_step(h).map(|()| self.coupling_error_ratio());
         match &attempt {
             Ok(ratio) if *ratio <= 1.0 => {
@@ -579,7 +596,10 @@ impl CoSim {
                         "{e}: rolling back and retrying [{t_fail} s, {} s] in halves",
                         t_fail + h
                     ),
-                    Ok(_) => self.control_stats.rejected += 1,
+                    Ok(_) => {
+                        self.control_stats.rejected += 1;
+                        self.save_burst = SAVE_BURST_STEPS;
+                    }
                 }
                 let replay = self.restore_saved()?;
                 for dt in replay {

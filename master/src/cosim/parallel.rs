@@ -19,8 +19,10 @@ const READY: u8 = 1;
 const DONE: u8 = 2;
 const QUIT: u8 = 3;
 
-/// How long a worker spins for the next job before it parks.
-const SPIN: Duration = Duration::from_micros(100);
+/// How long a worker spins for the next job before it parks. Longer than the gap between two
+/// jobs in a whirl (the other film's ~1 ms step plus the rotor's): a parked worker costs a futex
+/// wake-up of 50-100 us on the next job, which was 5 % of a path-1 run-up with 100 us here.
+const SPIN: Duration = Duration::from_millis(2);
 
 struct Job {
     sub: *mut Subsystem,

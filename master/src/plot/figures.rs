@@ -67,7 +67,15 @@ fn two_series(
             f_on,
             class.class.as_str()
         );
-        c.text(px + 4.0, ax.top + 14.0, &label, 12.0, Anchor::Start);
+        // Below the legend box (top right, 46 px high); to the left of the marker when the
+        // label (~0.6 em per character) would run past the right edge.
+        let y = ax.top + 64.0;
+        let width = 0.6 * 12.0 * label.chars().count() as f64;
+        if px + 4.0 + width > ax.left + ax.width {
+            c.text(px - 4.0, y, &label, 12.0, Anchor::End);
+        } else {
+            c.text(px + 4.0, y, &label, 12.0, Anchor::Start);
+        }
     }
     ax.legend(&mut c, &[(a.1, Rgb::BLUE), (b.1, Rgb::RED)]);
     c
