@@ -87,6 +87,9 @@ struct RunupArgs {
     /// down to 1/64), or "off" for a fixed macro step [default: 0.1,1]
     #[arg(long)]
     step_control: Option<String>,
+    /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: the FMU's 1e-4,10]
+    #[arg(long)]
+    film_tolerance: Option<String>,
     /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
     #[arg(long)]
     fmu_dir: Option<PathBuf>,
@@ -266,6 +269,9 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     s.disturbance_seed = a.disturbance_seed.unwrap_or(s.disturbance_seed);
     s.jacobi = a.jacobi;
     s.serial_films = a.serial_films;
+    if let Some(ft) = &a.film_tolerance {
+        s.film_tolerance = Some(master::runup::parse_film_tolerance(ft)?);
+    }
     if let Some(sc) = &a.step_control {
         s.step_control = master::runup::parse_step_control(sc)?;
     }

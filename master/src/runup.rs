@@ -36,6 +36,9 @@ pub struct RunupSettings {
     /// Macro-step control by the coupling error of the extrapolated forces: [rtol, atol in N];
     /// None = fixed macro step. Carries a journal through impacts on its ring (docs/convergence.md).
     pub step_control: Option<[f64; 2]>,
+    /// Air-film time-integration tolerances [rtol, atol in Pa]; None = the FMU's defaults
+    /// (1e-4, 10 Pa). A speed/accuracy trade (master/BENCHMARKS.md).
+    pub film_tolerance: Option<[f64; 2]>,
 }
 
 impl RunupSettings {
@@ -71,6 +74,7 @@ impl RunupSettings {
             jacobi: false,
             serial_films: false,
             step_control: Some(DEFAULT_STEP_CONTROL),
+            film_tolerance: None,
         })
     }
 
@@ -144,9 +148,13 @@ impl RunupSettings {
                 "\n[[fmu]]\nname = \"film_{side}\"\npath = \"{fmu_dir}/airfilm.fmu\""
             )
             .unwrap();
+            let tol = match self.film_tolerance {
+                Some([rtol, atol]) => format!(", rtol = {rtol:?}, atol = \"{atol} Pa\""),
+                None => String::new(),
+            };
             writeln!(
                 s,
-                "parameters = {{ C = \"{} um\", dH = \"{} um\", n_elem_phi = {}, n_elem_z = {} }}",
+                "parameters = {{ C = \"{} um\", dH = \"{} um\", n_elem_phi = {}, n_elem_z = {}{tol} }}",
                 self.clearance_um, self.dh_um, self.n_elem_phi, self.n_elem_z
             )
             .unwrap();
@@ -212,6 +220,20 @@ pub fn parse_step_control(text: &str) -> Result<Option<[f64; 2]>, String> {
     Ok(Some([r, a]))
 }
 
+/// `--film-tolerance`: "RTOL,ATOL_PA" (0 < RTOL < 1, ATOL_PA > 0).
+pub fn parse_film_tolerance(text: &str) -> Result<[f64; 2], String> {
+    let bad = || format!("--film-tolerance '{text}': expected RTOL,ATOL_PA (e.g. 1e-4,10)");
+    let (r, a) = text.split_once(',').ok_or_else(bad)?;
+    let r: f64 = r.trim().parse().map_err(|_| bad())?;
+    let a: f64 = a.trim().parse().map_err(|_| bad())?;
+    if !(r > 0.0 && r < 1.0 && a > 0.0 && a.is_finite()) {
+        return Err(format!(
+            "--film-tolerance '{text}': RTOL must lie in (0, 1) and ATOL_PA be finite and > 0"
+        ));
+    }
+    Ok([r, a])
+}
+
 /// A film mesh per lobe written "NxM" (elements along the lobe x across the half width).
 pub fn parse_mesh(text: &str, flag: &str) -> Result<(u32, u32), String> {
     let bad = || format!("{flag} '{text}': expected NxM, e.g. 20x6");
@@ -261,3 +283,34 @@ pub const DEFAULT_EXTRAPOLATION_ORDER: u8 = 1;
 pub const DEFAULT_INTERPOLATION_ORDER: u8 = 1;
 /// Default journal disturbance [mN] (see docs/stability.md, "The whirl seed").
 pub const DEFAULT_DISTURBANCE_MN: f64 = 0.001;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn run_up_flags_parse_or_explain() {
+        assert_eq!(parse_step_control("off"), Ok(None));
+        assert_eq!(parse_step_control("0.1, 1"), Ok(Some([0.1, 1.0])));
+        for bad in ["0.1", "x,1", "-0.1,1", "0,0", "nan,1"] {
+            let e = parse_step_control(bad).unwrap_err();
+            assert!(e.starts_with("--step-control"), "{bad}: {e}");
+        }
+        assert_eq!(parse_film_tolerance("1e-3,100"), Ok([1e-3, 100.0]));
+        for bad in ["1e-3", "1,10", "1e-3,0", "1e-3,inf"] {
+            let e = parse_film_tolerance(bad).unwrap_err();
+            assert!(e.starts_with("--film-tolerance"), "{bad}: {e}");
+        }
+        // The generated system file carries both settings.
+        let mut s = RunupSettings::preset("path1").unwrap();
+        s.film_tolerance = Some([1e-3, 100.0]);
+        let text = s.system_toml("fmus");
+        assert!(text.contains("rtol = 0.001, atol = \"100 Pa\""), "{text}");
+        assert!(
+            text.contains("step_control = { rtol = 0.1, atol = 1.0 }"),
+            "{text}"
+        );
+        s.step_control = None;
+        assert!(!s.system_toml("fmus").contains("step_control"));
+    }
+}
