@@ -358,6 +358,13 @@ fn write_archive(out: &Path, ssd: &str, files: &[(PathBuf, String)]) -> Result<(
 /// The command.
 pub fn run_cli(a: &ExportSspArgs) -> Result<(), String> {
     let r = export(&a.system, &a.out)?;
+    if let Ok(sys) = System::load(&a.system) {
+        if sys.file.algorithm.step_control.is_some() {
+            eprintln!(
+                "note: the system's step_control has no SSP equivalent; other tools run the fixed macro step"
+            );
+        }
+    }
     eprintln!(
         "{}: {} components, {} connections, {} parameter values, {}",
         a.out.display(),
