@@ -10,6 +10,8 @@ pub struct TimeSeriesWriter {
     last_flush: Instant,
     /// Bytes written so far (the checkpoint records it to truncate on resume).
     pub bytes: u64,
+    /// One row's text, reused (no allocation per value or row).
+    line: String,
 }
 
 const FLUSH_EVERY: Duration = Duration::from_secs(1);
@@ -21,6 +23,7 @@ impl TimeSeriesWriter {
             out: BufWriter::new(File::create(path)?),
             last_flush: Instant::now(),
             bytes: 0,
+            line: String::new(),
         };
         let mut header = String::from("time [s]");
         for (name, unit) in columns {
@@ -45,6 +48,7 @@ impl TimeSeriesWriter {
             out: BufWriter::new(f),
             last_flush: Instant::now(),
             bytes,
+            line: String::new(),
         })
     }
 
@@ -55,13 +59,18 @@ impl TimeSeriesWriter {
     }
 
     pub fn row(&mut self, t: f64, values: &[f64]) -> std::io::Result<()> {
-        let mut line = format!("{t:?}");
+        use std::fmt::Write as _;
+        let mut line = std::mem::take(&mut self.line);
+        line.clear();
+        // `{:?}` is the shortest text that reads back to the same f64.
+        let _ = write!(line, "{t:?}");
         for v in values {
-            line.push(',');
-            line.push_str(&format!("{v:?}"));
+            let _ = write!(line, ",{v:?}");
         }
         line.push('\n');
-        self.write_raw(line.as_bytes())?;
+        let r = self.write_raw(line.as_bytes());
+        self.line = line;
+        r?;
         if self.last_flush.elapsed() >= FLUSH_EVERY {
             self.flush()?;
         }
