@@ -87,7 +87,8 @@ struct RunupArgs {
     /// down to 1/64), or "off" for a fixed macro step [default: 0.1,1]
     #[arg(long)]
     step_control: Option<String>,
-    /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: the FMU's 1e-4,10]
+    /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: 1e-3,100; the FMU's own
+    /// defaults are 1e-4,10]
     #[arg(long)]
     film_tolerance: Option<String>,
     /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
