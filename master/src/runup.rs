@@ -202,30 +202,30 @@ impl RunupSettings {
     }
 }
 
+/// "X,Y" as two numbers (spaces allowed).
+fn number_pair(text: &str) -> Option<(f64, f64)> {
+    let (x, y) = text.split_once(',')?;
+    Some((x.trim().parse().ok()?, y.trim().parse().ok()?))
+}
+
 /// `--step-control`: "off" or "RTOL,ATOL_N" (finite, >= 0, not both 0).
 pub fn parse_step_control(text: &str) -> Result<Option<[f64; 2]>, String> {
     if text.trim() == "off" {
         return Ok(None);
     }
-    let bad = || format!("--step-control '{text}': expected RTOL,ATOL_N (e.g. 0.1,1) or off");
-    let (r, a) = text.split_once(',').ok_or_else(bad)?;
-    let r: f64 = r.trim().parse().map_err(|_| bad())?;
-    let a: f64 = a.trim().parse().map_err(|_| bad())?;
-    let ok = |x: f64| x.is_finite() && x >= 0.0;
-    if !(ok(r) && ok(a) && r + a > 0.0) {
-        return Err(format!(
-            "--step-control '{text}': RTOL and ATOL_N must be finite, >= 0 and not both 0"
-        ));
-    }
-    Ok(Some([r, a]))
+    let (r, a) = number_pair(text).ok_or_else(|| {
+        format!("--step-control '{text}': expected RTOL,ATOL_N (e.g. 0.1,1) or off")
+    })?;
+    let c = crate::cosim::gauss_seidel::StepControl::new(r, a)
+        .map_err(|e| format!("--step-control '{text}': {e}"))?;
+    Ok(Some([c.rtol, c.atol]))
 }
 
 /// `--film-tolerance`: "RTOL,ATOL_PA" (0 < RTOL < 1, ATOL_PA > 0).
 pub fn parse_film_tolerance(text: &str) -> Result<[f64; 2], String> {
-    let bad = || format!("--film-tolerance '{text}': expected RTOL,ATOL_PA (e.g. 1e-4,10)");
-    let (r, a) = text.split_once(',').ok_or_else(bad)?;
-    let r: f64 = r.trim().parse().map_err(|_| bad())?;
-    let a: f64 = a.trim().parse().map_err(|_| bad())?;
+    let (r, a) = number_pair(text).ok_or_else(|| {
+        format!("--film-tolerance '{text}': expected RTOL,ATOL_PA (e.g. 1e-4,10)")
+    })?;
     if !(r > 0.0 && r < 1.0 && a > 0.0 && a.is_finite()) {
         return Err(format!(
             "--film-tolerance '{text}': RTOL must lie in (0, 1) and ATOL_PA be finite and > 0"

@@ -208,6 +208,18 @@ pub struct StepControl {
     pub atol: f64,
 }
 
+impl StepControl {
+    /// The one check of a tolerance pair, for system files and command-line flags alike.
+    pub fn new(rtol: f64, atol: f64) -> Result<Self, &'static str> {
+        let ok = |x: f64| x.is_finite() && x >= 0.0;
+        if ok(rtol) && ok(atol) && rtol + atol > 0.0 {
+            Ok(StepControl { rtol, atol })
+        } else {
+            Err("rtol and atol must be finite, >= 0 and not both 0")
+        }
+    }
+}
+
 /// What the macro-step control did over a run.
 #[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
 pub struct ControlStats {

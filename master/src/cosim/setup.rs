@@ -306,14 +306,8 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
         None => None,
         Some(sc) => {
             let c = sc.get_ref();
-            let ok = |x: f64| x.is_finite() && x >= 0.0;
-            if !(ok(c.rtol) && ok(c.atol) && c.rtol + c.atol > 0.0) {
-                return Err(sys.error_at(
-                    sc,
-                    "algorithm.step_control",
-                    "rtol and atol must be finite, >= 0 and not both 0",
-                ));
-            }
+            let control = StepControl::new(c.rtol, c.atol)
+                .map_err(|e| sys.error_at(sc, "algorithm.step_control", e))?;
             if !alg.rollback {
                 return Err(sys.error_at(
                     sc,
@@ -321,10 +315,7 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
                     "needs rollback = true (a rejected step is rolled back)",
                 ));
             }
-            Some(StepControl {
-                rtol: c.rtol,
-                atol: c.atol,
-            })
+            Some(control)
         }
     };
     let mut cosim = CoSim::initialize(
