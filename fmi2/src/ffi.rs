@@ -389,20 +389,20 @@ pub unsafe fn get_fmu_state<M: Model>(c: Fmi2Component, state: *mut Fmi2FmuState
             return null_argument(inst, "fmi2GetFMUstate", "FMUstate");
         }
         inst.run("fmi2GetFMUstate", |i| {
-            let core = i.snapshot()?;
             // SAFETY: FMI contract: *state is null or a state from this FMU, which we may overwrite.
             unsafe {
                 match state_ref::<M>(*state) {
-                    Some(existing) => existing.core = core,
+                    Some(existing) => i.snapshot_into(&mut existing.core),
                     None => {
+                        let core = i.snapshot()?;
                         *state = Box::into_raw(Box::new(StateBox {
                             magic: STATE_MAGIC,
                             core,
-                        })) as Fmi2FmuState
+                        })) as Fmi2FmuState;
+                        Ok(Status::Ok)
                     }
                 }
             }
-            Ok(Status::Ok)
         })
     })
 }

@@ -52,8 +52,16 @@ impl Phase {
     }
 }
 
+/// Phases in which an FMU state may be got or set.
+const STATE_PHASES: [Phase; 5] = [
+    Phase::Instantiated,
+    Phase::InitializationMode,
+    Phase::StepComplete,
+    Phase::StepFailed,
+    Phase::Terminated,
+];
+
 /// The part of an instance that an FMU state (fmi2GetFMUstate) captures.
-#[derive(Clone)]
 pub struct Core<M: Model> {
     pub phase: Phase,
     pub store: Store,
@@ -67,6 +75,52 @@ pub struct Core<M: Model> {
     pub last_successful_time: f64,
     /// Input derivatives set for the next step, indexed by Real value reference.
     pub input_derivatives: Vec<[f64; MAX_INPUT_DERIVATIVE_ORDER]>,
+}
+
+/// `clone_from` copies field by field into the existing buffers: a master that saves states at
+/// every macro step (roll-back) reuses one state handle, and the model's own `clone_from` can skip
+/// what has not changed (the air film's factorized Jacobians).
+impl<M: Model> Clone for Core<M> {
+    fn clone(&self) -> Self {
+        Core {
+            phase: self.phase,
+            store: self.store.clone(),
+            model: self.model.clone(),
+            model_stale: self.model_stale,
+            time: self.time,
+            start_time: self.start_time,
+            stop_time: self.stop_time,
+            tolerance: self.tolerance,
+            last_successful_time: self.last_successful_time,
+            input_derivatives: self.input_derivatives.clone(),
+        }
+    }
+
+    fn clone_from(&mut self, src: &Self) {
+        // Destructured so that a new field fails to compile until it is copied here too.
+        let Core {
+            phase,
+            store,
+            model,
+            model_stale,
+            time,
+            start_time,
+            stop_time,
+            tolerance,
+            last_successful_time,
+            input_derivatives,
+        } = src;
+        self.phase = *phase;
+        self.store.clone_from(store);
+        self.model.clone_from(model);
+        self.model_stale = *model_stale;
+        self.time = *time;
+        self.start_time = *start_time;
+        self.stop_time = *stop_time;
+        self.tolerance = *tolerance;
+        self.last_successful_time = *last_successful_time;
+        self.input_derivatives.clone_from(input_derivatives);
+    }
 }
 
 pub struct Instance<M: Model> {
@@ -582,25 +636,20 @@ impl<M: Model> Instance<M> {
     }
 
     pub fn snapshot(&self) -> Result<Core<M>, (Status, String)> {
-        self.require(&[
-            Phase::Instantiated,
-            Phase::InitializationMode,
-            Phase::StepComplete,
-            Phase::StepFailed,
-            Phase::Terminated,
-        ])?;
+        self.require(&STATE_PHASES)?;
         Ok(self.core.clone())
     }
 
+    /// Like `snapshot`, into an existing state (its buffers are reused).
+    pub fn snapshot_into(&self, dst: &mut Core<M>) -> Res {
+        self.require(&STATE_PHASES)?;
+        dst.clone_from(&self.core);
+        Ok(Status::Ok)
+    }
+
     pub fn restore(&mut self, core: &Core<M>) -> Res {
-        self.require(&[
-            Phase::Instantiated,
-            Phase::InitializationMode,
-            Phase::StepComplete,
-            Phase::StepFailed,
-            Phase::Terminated,
-        ])?;
-        self.core = core.clone();
+        self.require(&STATE_PHASES)?;
+        self.core.clone_from(core);
         Ok(Status::Ok)
     }
 

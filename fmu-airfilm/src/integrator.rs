@@ -52,8 +52,10 @@ impl StepStats {
     }
 }
 
-/// Scratch vectors: always fully overwritten before they are read.
-#[derive(Clone, Debug, Default)]
+/// Scratch vectors: always fully overwritten before they are read, so a copy of a film (an FMU
+/// state) does not carry them: `clone` gives empty ones (sized on the next step), `clone_from`
+/// keeps the destination's.
+#[derive(Debug, Default)]
 struct Scratch {
     gap: GapField,
     res: Vec<f64>,
@@ -63,8 +65,16 @@ struct Scratch {
     wt: Vec<f64>,
 }
 
+impl Clone for Scratch {
+    fn clone(&self) -> Self {
+        Scratch::default()
+    }
+
+    fn clone_from(&mut self, _: &Self) {}
+}
+
 /// The whole state of one air film (pressure history, step size, Newton matrices).
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct AirFilm {
     params: BearingParams,
     mesh: Mesh,
@@ -90,6 +100,81 @@ pub struct AirFilm {
     totals: StepStats,
     #[serde(skip)]
     scratch: Scratch,
+}
+
+/// `clone_from` is the FMU state save and restore of a master that rolls back (every macro step
+/// under macro-step control): it reuses the destination's buffers, copies the mesh and geometry
+/// only when the parameters differ (they are functions of the parameters), and the factorized
+/// Jacobians only when they changed since the destination got them ([`BandLu`] stamps). That
+/// leaves the three pressure levels, ~40 kB on the paper mesh.
+impl Clone for AirFilm {
+    fn clone(&self) -> Self {
+        let mut c = AirFilm {
+            params: self.params.clone(),
+            mesh: self.mesh.clone(),
+            geom: self.geom.clone(),
+            t_s: 0.0,
+            p: vec![],
+            p1: vec![],
+            p2: vec![],
+            h1_s: 0.0,
+            h2_s: 0.0,
+            n_hist: 0,
+            h_next_s: 0.0,
+            journal: JournalState::default(),
+            lu: vec![],
+            lu_valid: vec![],
+            lu_c0: vec![],
+            lu_age: vec![],
+            newton_rate: vec![],
+            totals: StepStats::default(),
+            scratch: Scratch::default(),
+        };
+        c.clone_from(self);
+        c
+    }
+
+    fn clone_from(&mut self, src: &Self) {
+        // Destructured so that a new field fails to compile until it is copied here too.
+        let AirFilm {
+            params,
+            mesh,
+            geom,
+            t_s,
+            p,
+            p1,
+            p2,
+            h1_s,
+            h2_s,
+            n_hist,
+            h_next_s,
+            journal,
+            lu,
+            lu_valid,
+            lu_c0,
+            lu_age,
+            newton_rate,
+            totals,
+            scratch: _,
+        } = src;
+        if self.params != *params {
+            self.params.clone_from(params);
+            self.mesh.clone_from(mesh);
+            self.geom.clone_from(geom);
+        }
+        self.t_s = *t_s;
+        self.p.clone_from(p);
+        self.p1.clone_from(p1);
+        self.p2.clone_from(p2);
+        (self.h1_s, self.h2_s, self.n_hist, self.h_next_s) = (*h1_s, *h2_s, *n_hist, *h_next_s);
+        self.journal = *journal;
+        self.lu.clone_from(lu);
+        self.lu_valid.clone_from(lu_valid);
+        self.lu_c0.clone_from(lu_c0);
+        self.lu_age.clone_from(lu_age);
+        self.newton_rate.clone_from(newton_rate);
+        self.totals = *totals;
+    }
 }
 
 impl AirFilm {

@@ -5,8 +5,9 @@
 //! that row interchanges create. Factor and solve allocate nothing.
 
 use serde::{Deserialize, Serialize};
+use std::sync::atomic::{AtomicU64, Ordering};
 
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct BandLu {
     pub n: usize,
     pub kl: usize,
@@ -14,6 +15,48 @@ pub struct BandLu {
     ldab: usize,
     ab: Vec<f64>,
     ipiv: Vec<u32>,
+    /// Names the current contents: a successful `factor` draws a process-wide unique stamp, every
+    /// other change sets 0 ("unknown"). Equal non-zero stamps mean equal contents, which lets
+    /// `clone_from` skip the copy (an FMU state saved at every macro step holds factors that
+    /// change only every few dozen steps). Not serialized: a deserialized matrix is "unknown".
+    #[serde(skip)]
+    stamp: u64,
+}
+
+/// Source of factorization stamps (0 is never drawn).
+static NEXT_STAMP: AtomicU64 = AtomicU64::new(1);
+
+impl Clone for BandLu {
+    fn clone(&self) -> Self {
+        BandLu {
+            n: self.n,
+            kl: self.kl,
+            ku: self.ku,
+            ldab: self.ldab,
+            ab: self.ab.clone(),
+            ipiv: self.ipiv.clone(),
+            stamp: self.stamp,
+        }
+    }
+
+    fn clone_from(&mut self, src: &Self) {
+        if self.stamp != 0 && self.stamp == src.stamp {
+            return;
+        }
+        let BandLu {
+            n,
+            kl,
+            ku,
+            ldab,
+            ab,
+            ipiv,
+            stamp,
+        } = src;
+        (self.n, self.kl, self.ku, self.ldab) = (*n, *kl, *ku, *ldab);
+        self.ab.clone_from(ab);
+        self.ipiv.clone_from(ipiv);
+        self.stamp = *stamp;
+    }
 }
 
 impl BandLu {
@@ -26,11 +69,13 @@ impl BandLu {
             ldab,
             ab: vec![0.0; ldab * n],
             ipiv: vec![0; n],
+            stamp: 0,
         }
     }
 
     /// Clears the matrix before assembly.
     pub fn zero(&mut self) {
+        self.stamp = 0;
         self.ab.iter_mut().for_each(|v| *v = 0.0);
     }
 
@@ -44,6 +89,7 @@ impl BandLu {
     pub fn add(&mut self, r: usize, c: usize, v: f64) {
         debug_assert!(r + self.ku >= c && c + self.kl >= r);
         let i = self.idx(r, c);
+        self.stamp = 0;
         self.ab[i] += v;
     }
 
@@ -58,6 +104,7 @@ impl BandLu {
 
     /// Replaces row r by the identity row (Dirichlet node).
     pub fn set_identity_row(&mut self, r: usize) {
+        self.stamp = 0;
         let c0 = r.saturating_sub(self.kl);
         let c1 = (r + self.ku).min(self.n - 1);
         for c in c0..=c1 {
@@ -70,6 +117,13 @@ impl BandLu {
 
     /// In-place LU factorization with partial pivoting. Err(row) on an exactly zero pivot.
     pub fn factor(&mut self) -> Result<(), usize> {
+        self.stamp = 0;
+        self.factor_in_place()?;
+        self.stamp = NEXT_STAMP.fetch_add(1, Ordering::Relaxed);
+        Ok(())
+    }
+
+    fn factor_in_place(&mut self) -> Result<(), usize> {
         let (n, kl, ku, ldab) = (self.n, self.kl, self.ku, self.ldab);
         let kv = kl + ku;
         // Fill-in rows of the first columns must start at zero.

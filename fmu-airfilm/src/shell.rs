@@ -49,13 +49,37 @@ pub mod vr {
 const DOC: &str = include_str!("shell_doc.html");
 
 /// The FMU's model: the film plus what FMI needs on top (output derivatives).
-#[derive(Clone, Debug, Serialize, Deserialize)]
+#[derive(Debug, Serialize, Deserialize)]
 pub struct AirFilmFmu {
     film: AirFilm,
     outputs: FilmOutputs,
     /// Forces at the previous communication point and its time, for the output derivatives.
     previous: Option<(f64, [f64; 2])>,
     time_s: f64,
+}
+
+/// FMU states: `clone_from` (fmi2GetFMUstate into an existing state, fmi2SetFMUstate) goes
+/// through the film's buffer-reusing `clone_from`.
+impl Clone for AirFilmFmu {
+    fn clone(&self) -> Self {
+        AirFilmFmu {
+            film: self.film.clone(),
+            outputs: self.outputs,
+            previous: self.previous,
+            time_s: self.time_s,
+        }
+    }
+
+    fn clone_from(&mut self, src: &Self) {
+        let AirFilmFmu {
+            film,
+            outputs,
+            previous,
+            time_s,
+        } = src;
+        self.film.clone_from(film);
+        (self.outputs, self.previous, self.time_s) = (*outputs, *previous, *time_s);
+    }
 }
 
 /// The film parameters from the FMU's variable values (also used by `airring orbit`, which drives

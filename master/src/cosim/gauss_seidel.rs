@@ -231,6 +231,12 @@ pub struct ControlStats {
     pub deepest_level: u32,
     /// Largest error ratio of an accepted attempt.
     pub max_error_ratio: f64,
+    /// Accepted sub-steps of the refined macro steps.
+    pub sub_steps: u64,
+    /// Length of the rejected attempts, in macro steps: the work the control threw away.
+    pub rejected_work_macro_steps: f64,
+    /// Macro steps by the deepest level they used (index 0: one sub-step, the nominal step).
+    pub macro_steps_by_level: [u64; MAX_HALVINGS as usize + 1],
 }
 /// Where the master's own time goes (wall time), for the run summary.
 #[derive(Clone, Debug, Default)]
@@ -589,6 +595,7 @@ impl CoSim {
             Ok(ratio) if *ratio <= 1.0 => {
                 let st = &mut self.control_stats;
                 st.max_error_ratio = st.max_error_ratio.max(*ratio);
+                st.macro_steps_by_level[0] += 1;
                 if let Some(s) = self.saved.as_mut() {
                     s.replay.push(h);
                 }
@@ -610,6 +617,7 @@ impl CoSim {
                     ),
                     Ok(_) => {
                         self.control_stats.rejected += 1;
+                        self.control_stats.rejected_work_macro_steps += 1.0;
                         self.save_burst = SAVE_BURST_STEPS;
                     }
                 }
@@ -640,6 +648,7 @@ impl CoSim {
         let st = &mut self.control_stats;
         st.refined_macro_steps += 1;
         st.deepest_level = st.deepest_level.max(acc.deepest);
+        st.macro_steps_by_level[acc.deepest as usize] += 1;
         st.max_error_ratio = st.max_error_ratio.max(acc.worst);
         self.level = acc.deepest;
         if acc.worst < RELAX_BELOW && self.level > 0 {
@@ -671,8 +680,10 @@ impl CoSim {
                 let ratio = self.coupling_error_ratio();
                 if ratio > 1.0 && depth < MAX_HALVINGS {
                     self.control_stats.rejected += 1;
+                    self.control_stats.rejected_work_macro_steps += 0.5f64.powi(depth as i32);
                     true
                 } else {
+                    self.control_stats.sub_steps += 1;
                     acc.worst = acc.worst.max(ratio);
                     acc.deepest = acc.deepest.max(depth);
                     false
