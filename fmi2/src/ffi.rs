@@ -256,6 +256,28 @@ pub fn reset<M: Model>(c: Fmi2Component) -> Fmi2StatusRaw {
 }
 
 macro_rules! getter {
+    // Same type on both sides (Real, Integer): written straight into the caller's array, no
+    // allocation per call (a master calls this every macro step).
+    ($name:ident, $fmi:literal, $ty:ty, $method:ident) => {
+        /// # Safety
+        /// FMI 2.0 getter: `vr` and `value` point to `n` elements.
+        pub unsafe fn $name<M: Model>(
+            c: Fmi2Component,
+            vr: *const Fmi2ValueReference,
+            n: usize,
+            value: *mut $ty,
+        ) -> Fmi2StatusRaw {
+            with::<M>(c, $fmi, |inst| {
+                // SAFETY: FMI contract.
+                let (Some(vrs), Some(out)) =
+                    (unsafe { slice(vr, n) }, unsafe { slice_mut(value, n) })
+                else {
+                    return null_argument(inst, $fmi, "vr or value");
+                };
+                inst.run($fmi, |i| i.$method(vrs, out))
+            })
+        }
+    };
     ($name:ident, $fmi:literal, $ty:ty, $method:ident, $conv:expr) => {
         /// # Safety
         /// FMI 2.0 getter: `vr` and `value` point to `n` elements.
@@ -285,8 +307,8 @@ macro_rules! getter {
     };
 }
 
-getter!(get_real, "fmi2GetReal", f64, get_real, |x: f64| x);
-getter!(get_integer, "fmi2GetInteger", i32, get_integer, |x: i32| x);
+getter!(get_real, "fmi2GetReal", f64, get_real);
+getter!(get_integer, "fmi2GetInteger", i32, get_integer);
 getter!(
     get_boolean,
     "fmi2GetBoolean",
@@ -330,6 +352,26 @@ pub unsafe fn set_string<M: Model>(
 }
 
 macro_rules! setter {
+    // Same type on both sides (Real, Integer): no copy, no allocation per call.
+    ($name:ident, $fmi:literal, $ty:ty, $method:ident) => {
+        /// # Safety
+        /// FMI 2.0 setter: `vr` and `value` point to `n` elements.
+        pub unsafe fn $name<M: Model>(
+            c: Fmi2Component,
+            vr: *const Fmi2ValueReference,
+            n: usize,
+            value: *const $ty,
+        ) -> Fmi2StatusRaw {
+            with::<M>(c, $fmi, |inst| {
+                // SAFETY: FMI contract.
+                let (Some(vrs), Some(vals)) = (unsafe { slice(vr, n) }, unsafe { slice(value, n) })
+                else {
+                    return null_argument(inst, $fmi, "vr or value");
+                };
+                inst.run($fmi, |i| i.$method(vrs, vals))
+            })
+        }
+    };
     ($name:ident, $fmi:literal, $ty:ty, $method:ident, $conv:expr) => {
         /// # Safety
         /// FMI 2.0 setter: `vr` and `value` point to `n` elements.
@@ -352,8 +394,8 @@ macro_rules! setter {
     };
 }
 
-setter!(set_real, "fmi2SetReal", f64, set_real, |x: f64| x);
-setter!(set_integer, "fmi2SetInteger", i32, set_integer, |x: i32| x);
+setter!(set_real, "fmi2SetReal", f64, set_real);
+setter!(set_integer, "fmi2SetInteger", i32, set_integer);
 setter!(
     set_boolean,
     "fmi2SetBoolean",

@@ -7,7 +7,7 @@
 use crate::logging::Logger;
 use crate::model::{Inputs, Log, Model, StepOutcome, Store, MAX_INPUT_DERIVATIVE_ORDER};
 use crate::types::{Fmi2CallbackFunctions, Status};
-use crate::variables::{Causality, ModelInfo, VarType};
+use crate::variables::{Causality, ModelInfo, VarIndex, VarType, Variable};
 use std::path::PathBuf;
 
 /// Marks a live instance; checked on every call so a null or foreign pointer is refused.
@@ -126,6 +126,7 @@ impl<M: Model> Clone for Core<M> {
 pub struct Instance<M: Model> {
     pub(crate) magic: u64,
     pub info: ModelInfo,
+    index: VarIndex,
     pub guid: String,
     pub logger: Logger,
     pub resource_dir: Option<PathBuf>,
@@ -223,8 +224,14 @@ impl<M: Model> Instance<M> {
                 values: vec![0.0; n_real],
                 derivatives: vec![[0.0; MAX_INPUT_DERIVATIVE_ORDER]; n_real],
             },
+            index: VarIndex::new(&info),
             info,
         })
+    }
+
+    /// The variable of a type and value reference (O(1)).
+    fn variable(&self, t: VarType, vr: u32) -> Option<&Variable> {
+        self.index.variable(&self.info, t, vr)
     }
 
     /// Runs a call body and logs its rejection, if any. `function` names the FMI function.
@@ -357,7 +364,7 @@ impl<M: Model> Instance<M> {
     ];
 
     fn check_vrs(&self, t: VarType, vrs: &[u32]) -> Result<(), (Status, String)> {
-        let n = self.info.count(t) as u32;
+        let n = self.index.count(t) as u32;
         match vrs.iter().find(|&&vr| vr >= n) {
             Some(vr) => err(format!("unknown {} value reference {vr}", t.as_str())),
             None => Ok(()),
@@ -423,7 +430,7 @@ impl<M: Model> Instance<M> {
         self.check_vrs(t, vrs)?;
         let phase = self.core.phase;
         for vr in vrs {
-            let v = self.info.variable(t, *vr).expect("checked above");
+            let v = self.variable(t, *vr).expect("checked above");
             let ok = match phase {
                 Phase::Instantiated | Phase::InitializationMode => v.settable_before_init(),
                 Phase::StepComplete => v.settable_during_run(),
@@ -443,7 +450,7 @@ impl<M: Model> Instance<M> {
     }
 
     fn check_range(&self, t: VarType, vr: u32, x: f64) -> Result<(), (Status, String)> {
-        let v = self.info.variable(t, vr).expect("checked");
+        let v = self.variable(t, vr).expect("checked");
         let unit = v.unit.unwrap_or("");
         if !x.is_finite() {
             return err(format!("value {x} for '{}' is not finite", v.name));
@@ -519,7 +526,7 @@ impl<M: Model> Instance<M> {
         ])?;
         self.check_vrs(VarType::Real, vrs)?;
         for ((vr, order), x) in vrs.iter().zip(orders).zip(values) {
-            let v = self.info.variable(VarType::Real, *vr).expect("checked");
+            let v = self.variable(VarType::Real, *vr).expect("checked");
             if v.causality != Causality::Input {
                 return err(format!("'{}' is not an input", v.name));
             }
@@ -553,7 +560,7 @@ impl<M: Model> Instance<M> {
             .as_ref()
             .ok_or((Status::Error, "the model is not initialized".to_string()))?;
         for ((vr, order), o) in vrs.iter().zip(orders).zip(out.iter_mut()) {
-            let v = self.info.variable(VarType::Real, *vr).expect("checked");
+            let v = self.variable(VarType::Real, *vr).expect("checked");
             if v.causality != Causality::Output {
                 return err(format!("'{}' is not an output", v.name));
             }

@@ -253,6 +253,50 @@ pub struct ModelInfo {
     pub documentation_html: &'static str,
 }
 
+/// Where each variable sits in `ModelInfo::variables`, by type and value reference: every
+/// fmi2Set/Get call looks its variables up, and a scan of the table per value cost ~1 us per call.
+#[derive(Clone, Debug, Default)]
+pub struct VarIndex {
+    by_type: [Vec<usize>; 3],
+}
+
+impl VarIndex {
+    const NONE: usize = usize::MAX;
+
+    fn slot(t: VarType) -> usize {
+        match t {
+            VarType::Real => 0,
+            VarType::Integer => 1,
+            VarType::Boolean => 2,
+        }
+    }
+
+    pub fn new(info: &ModelInfo) -> Self {
+        let mut ix = VarIndex::default();
+        for (i, v) in info.variables.iter().enumerate() {
+            let list = &mut ix.by_type[Self::slot(v.var_type)];
+            let vr = v.vr as usize;
+            if list.len() <= vr {
+                list.resize(vr + 1, Self::NONE);
+            }
+            list[vr] = i;
+        }
+        ix
+    }
+
+    /// Number of value references of a type (dense per type: `ModelInfo::check`).
+    pub fn count(&self, t: VarType) -> usize {
+        self.by_type[Self::slot(t)].len()
+    }
+
+    pub fn variable<'a>(&self, info: &'a ModelInfo, t: VarType, vr: u32) -> Option<&'a Variable> {
+        match self.by_type[Self::slot(t)].get(vr as usize) {
+            Some(&i) if i != Self::NONE => info.variables.get(i),
+            _ => None,
+        }
+    }
+}
+
 /// The log categories every AirRing FMU declares (FMI 2.0 recommended names).
 pub const STANDARD_LOG_CATEGORIES: &[(&str, &str)] = &[
     ("logEvents", "Log events"),

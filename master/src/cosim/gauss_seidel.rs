@@ -180,7 +180,7 @@ pub struct CoSim {
     stepped: Vec<bool>,
     /// Macro steps between saved FMU states when rollback is on.
     pub save_every: usize,
-    /// Macro steps left in which states are saved at every step: set after a rejection, because
+    /// Macro steps left in which states are saved at every step: set after a rejection or a Discard, because
     /// where the control acted once (a whirl grazing the ring) it acts again within ~100 steps,
     /// and a replay of up to `save_every` steps per rejection costs more than saving each step.
     save_burst: u64,
@@ -197,8 +197,13 @@ pub const MAX_HALVINGS: u32 = 6;
 /// keeps the error below 1/2 of the tolerance).
 const RELAX_BELOW: f64 = 0.125;
 
-/// Macro steps with a state save at every step after a rejection by the control (see `save_burst`).
+/// Macro steps with a state save at every step after a rejection or a Discard (see `save_burst`).
 const SAVE_BURST_STEPS: u64 = 1000;
+
+/// Macro steps between state saves otherwise. A save copies the factorized Jacobians that changed
+/// since the last one (~3 MB for two films after a few hundred steps, ~0.4 ms); a Discard replays
+/// at most this many steps (~0.5 s of wall time), and trouble then switches to a save per step.
+const SAVE_EVERY: usize = 1000;
 
 /// Tolerance of the coupling error |extrapolated input - actual output| at T_N+1, in the units of
 /// the extrapolated inputs (forces in N for the run-up).
@@ -316,7 +321,7 @@ impl CoSim {
             predicted: vec![],
             pool,
             stepped: vec![],
-            save_every: 200,
+            save_every: SAVE_EVERY,
             save_burst: 0,
             saved: None,
             _fmus: fmus,
@@ -569,7 +574,7 @@ impl CoSim {
     }
 
     /// Advances by one macro step `h`. With rollback on, FMU states are saved every `save_every`
-    /// macro steps (saving an air-film state copies ~1 MB, too much for every step); a discarded
+    /// macro steps (a save copies the air films' changed Jacobian factors, up to ~3 MB); a discarded
     /// (or, under [`StepControl`], too inaccurate) step restores that point, replays the steps since
     /// (the FMUs are deterministic, so the replay is exact), and retries the failed interval in two
     /// halves, recursively. Under control, a refined level covers the step with 2^level sub-steps.
@@ -618,9 +623,9 @@ impl CoSim {
                     Ok(_) => {
                         self.control_stats.rejected += 1;
                         self.control_stats.rejected_work_macro_steps += 1.0;
-                        self.save_burst = SAVE_BURST_STEPS;
                     }
                 }
+                self.save_burst = SAVE_BURST_STEPS;
                 let replay = self.restore_saved()?;
                 for dt in replay {
                     self.try_step(dt)?;

@@ -59,13 +59,15 @@ impl TimeSeriesWriter {
     }
 
     pub fn row(&mut self, t: f64, values: &[f64]) -> std::io::Result<()> {
-        use std::fmt::Write as _;
         let mut line = std::mem::take(&mut self.line);
         line.clear();
-        // `{:?}` is the shortest text that reads back to the same f64.
-        let _ = write!(line, "{t:?}");
+        // Ryu: the shortest text that reads back to the same f64 (like `{:?}`, ~5x faster; the
+        // rows are most of the master's own work in a run-up).
+        let mut buf = ryu::Buffer::new();
+        line.push_str(buf.format(t));
         for v in values {
-            let _ = write!(line, ",{v:?}");
+            line.push(',');
+            line.push_str(buf.format(*v));
         }
         line.push('\n');
         let r = self.write_raw(line.as_bytes());
@@ -102,4 +104,46 @@ pub fn read(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f64>>)> {
         })
         .collect();
     Ok((header, rows))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every value reads back to the same bits (NaN as NaN): the series is the exact record.
+    #[test]
+    fn values_round_trip_exactly() {
+        let dir = std::env::temp_dir().join(format!("airring-ts-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("ts.csv");
+        let cols = [
+            ("a".to_string(), "m".to_string()),
+            ("b".to_string(), "".to_string()),
+        ];
+        let values = [
+            [1.0, -0.0],
+            [1e-300, -2.5e17],
+            [0.1 + 0.2, f64::MIN_POSITIVE / 3.0],
+            [f64::INFINITY, f64::NEG_INFINITY],
+            [f64::NAN, 123456.789],
+        ];
+        let mut w = TimeSeriesWriter::create(&path, &cols).unwrap();
+        for (k, v) in values.iter().enumerate() {
+            w.row(k as f64 * 2e-5, v).unwrap();
+        }
+        w.flush().unwrap();
+        let (header, rows) = read(&path).unwrap();
+        assert_eq!(header, ["time [s]", "a [m]", "b [1]"]);
+        assert_eq!(rows.len(), values.len());
+        for (k, (row, v)) in rows.iter().zip(&values).enumerate() {
+            assert_eq!(row[0].to_bits(), (k as f64 * 2e-5).to_bits());
+            for (x, y) in row[1..].iter().zip(v) {
+                assert!(
+                    x.to_bits() == y.to_bits() || (x.is_nan() && y.is_nan()),
+                    "{x} vs {y}"
+                );
+            }
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 }
