@@ -21,7 +21,13 @@ pub enum FilmError {
     BeyondContactLimit { h_min_m: f64, t_s: f64 },
     /// Newton did not converge even after sub-steps were reduced to the minimum step size.
     /// The film state stays at the last accepted sub-step, `t_reached_s`.
-    NewtonFailure { t_reached_s: f64, h_s: f64 },
+    NewtonFailure {
+        t_reached_s: f64,
+        h_s: f64,
+        /// Lobe (block) whose solve failed last, and why.
+        lobe: usize,
+        cause: &'static str,
+    },
     /// The requested interval needed more than `max_substeps` accepted sub-steps.
     /// The film state stays at the last accepted sub-step, `t_reached_s`.
     TooManySubsteps {
@@ -52,10 +58,16 @@ impl fmt::Display for FilmError {
                 "journal beyond the contact limit at t = {t_s} s: minimum gap {h_min_m} m <= 0 \
                  (the journal would penetrate the ring)"
             ),
-            FilmError::NewtonFailure { t_reached_s, h_s } => write!(
+            FilmError::NewtonFailure {
+                t_reached_s,
+                h_s,
+                lobe,
+                cause,
+            } => write!(
                 f,
                 "Newton iteration of the Reynolds equation failed at t = {t_reached_s} s even with \
-                 sub-step {h_s} s; state kept at t = {t_reached_s} s"
+                 sub-step {h_s} s (last failure: lobe {lobe}, {cause}); state kept at \
+                 t = {t_reached_s} s"
             ),
             FilmError::TooManySubsteps {
                 t_reached_s,

@@ -52,6 +52,13 @@ impl StepStats {
     }
 }
 
+/// Why a Newton solve of one sub-step failed: the lobe (block) and the cause, for the error.
+#[derive(Clone, Copy, Debug)]
+struct NewtonFail {
+    lobe: usize,
+    cause: &'static str,
+}
+
 /// Scratch vectors: always fully overwritten before they are read, so a copy of a film (an FMU
 /// state) does not carry them: `clone` gives empty ones (sized on the next step), `clone_from`
 /// keeps the destination's.
@@ -317,6 +324,7 @@ impl AirFilm {
         let mut n_acc = 0usize;
         // After a rejection the next step must really be smaller: no stretching to the end.
         let mut just_rejected = false;
+        let mut last_fail: Option<NewtonFail> = None;
         let result = loop {
             let t = self.t_s;
             let remaining = t_end - t;
@@ -379,12 +387,15 @@ impl AirFilm {
                     stats.n_rejected += 1;
                     self.h_next_s = hs * step_ratio(err, order).min(0.9);
                 }
-                Err(()) => {
+                Err(fail) => {
                     stats.n_newton_failures += 1;
+                    last_fail = Some(fail);
                     if fixed {
                         break Err(FilmError::NewtonFailure {
                             t_reached_s: t,
                             h_s: hs,
+                            lobe: fail.lobe,
+                            cause: fail.cause,
                         });
                     }
                     self.h_next_s = 0.25 * hs;
@@ -392,9 +403,15 @@ impl AirFilm {
                 }
             }
             if self.h_next_s < H_MIN_S {
+                let fail = last_fail.unwrap_or(NewtonFail {
+                    lobe: 0,
+                    cause: "step size below the minimum",
+                });
                 break Err(FilmError::NewtonFailure {
                     t_reached_s: t,
                     h_s: self.h_next_s,
+                    lobe: fail.lobe,
+                    cause: fail.cause,
                 });
             }
         };
@@ -432,13 +449,13 @@ impl AirFilm {
     }
 
     /// One BDF step of size `hs` from the current state. Ok((weighted error, order)) when Newton
-    /// converged; Err(()) when it did not.
+    /// converged; the failing lobe and the cause when it did not.
     fn try_step(
         &mut self,
         hs: f64,
         j_new: &JournalState,
         stats: &mut StepStats,
-    ) -> Result<(f64, usize), ()> {
+    ) -> Result<(f64, usize), NewtonFail> {
         let prm = &self.params;
         let n = self.p.len();
         let (h1, h2) = (self.h1_s, self.h2_s);
@@ -503,7 +520,10 @@ impl AirFilm {
             let mut need_jac = !self.lu_valid[k]
                 || !(0.67..=1.5).contains(&c0_ratio)
                 || self.lu_age[k] >= MAX_LU_AGE;
-            let mut converged = false;
+            let mut converged = Err(NewtonFail {
+                lobe: k,
+                cause: "no attempt",
+            });
             for _attempt in 0..2 {
                 if need_jac {
                     s.p_new[r.clone()].copy_from_slice(&s.p_pred[r.clone()]);
@@ -518,7 +538,10 @@ impl AirFilm {
                     stats.n_jacobians += 1;
                     self.lu_valid[k] = false;
                     if self.lu[k].factor().is_err() {
-                        return Err(());
+                        return Err(NewtonFail {
+                            lobe: k,
+                            cause: "singular Newton matrix",
+                        });
                     }
                     self.lu_valid[k] = true;
                     self.lu_c0[k] = c0;
@@ -538,17 +561,18 @@ impl AirFilm {
                     &mut self.newton_rate[k],
                     stats,
                 ) {
-                    true => {
-                        converged = true;
+                    Ok(()) => {
+                        converged = Ok(());
                         break;
                     }
-                    false if !need_jac => need_jac = true,
-                    false => break,
+                    Err(_) if !need_jac => need_jac = true,
+                    Err(cause) => {
+                        converged = Err(NewtonFail { lobe: k, cause });
+                        break;
+                    }
                 }
             }
-            if !converged {
-                return Err(());
-            }
+            converged?;
         }
         // Local error estimate.
         let mut sum = 0.0;
@@ -560,7 +584,10 @@ impl AirFilm {
         }
         let err = (sum / cnt.max(1) as f64).sqrt();
         if !err.is_finite() {
-            return Err(());
+            return Err(NewtonFail {
+                lobe: 0,
+                cause: "non-finite error estimate",
+            });
         }
         Ok((err, order))
     }
@@ -587,7 +614,7 @@ fn newton_block(
     wt: &[f64],
     rate_prev: &mut f64,
     stats: &mut StepStats,
-) -> bool {
+) -> Result<(), &'static str> {
     let mut norm_prev = f64::INFINITY;
     let mut rate = 0.0f64;
     let n = p.len();
@@ -603,28 +630,37 @@ fn newton_block(
         }
         let norm = (sum / n as f64).sqrt();
         if !norm.is_finite() {
-            return false;
+            return Err("non-finite Newton update");
         }
         if it == 0 {
             // The contraction rate of the previous solve with this matrix predicts the error left
             // after the first update (CVODE's test); a fresh matrix has no history (rate 1).
             let r = rate_prev.clamp(0.2, 0.9);
             if norm * r / (1.0 - r) < NEWTON_TOL || norm < 0.1 * NEWTON_TOL {
-                return p.iter().all(|v| *v > 0.0);
+                return positive(p);
             }
         } else {
             rate = (norm / norm_prev).max(0.2 * rate);
             *rate_prev = rate;
             if rate >= 0.9 {
-                return false;
+                return Err("Newton iteration diverges (contraction rate >= 0.9)");
             }
             if norm * rate / (1.0 - rate) < NEWTON_TOL {
-                return p.iter().all(|v| *v > 0.0);
+                return positive(p);
             }
         }
         norm_prev = norm;
     }
-    false
+    Err("no convergence within the iteration limit")
+}
+
+/// A converged pressure field must be positive everywhere (absolute pressure of a gas).
+fn positive(p: &[f64]) -> Result<(), &'static str> {
+    if p.iter().all(|v| *v > 0.0) {
+        Ok(())
+    } else {
+        Err("a non-positive pressure in the converged iterate")
+    }
 }
 
 /// Outputs for a pressure field (shared with the steady solver).

@@ -216,6 +216,45 @@ fn reused_saved_state_rolls_back_bit_identically() {
         .all(|(x, y)| x.to_bits() == y.to_bits()));
 }
 
+/// A Newton failure names the lobe and the cause (here a fixed step far too long for a violent
+/// orbit), and the film stays at its last accepted state.
+#[test]
+fn newton_failure_names_lobe_and_cause() {
+    let prm = BearingParams {
+        fixed_step_s: 2e-4,
+        ..BearingParams::paper()
+    };
+    let orbit = whirl(&prm, 0.97, 3000.0, 2000.0);
+    let mut film = AirFilm::new(prm).unwrap();
+    let mut failure = None;
+    for k in 0..50 {
+        if let Err(e) = film.advance(k as f64 * 2e-4, 2e-4, &orbit) {
+            failure = Some((k, e));
+            break;
+        }
+    }
+    let (k, e) = failure.expect("a 200 us step on a 3 kHz whirl at eps 0.97 must fail");
+    match &e {
+        FilmError::NewtonFailure {
+            t_reached_s,
+            lobe,
+            cause,
+            ..
+        } => {
+            assert_eq!(*t_reached_s, k as f64 * 2e-4);
+            assert!(*lobe < 3 && !cause.is_empty());
+            assert_eq!(film.time_s(), *t_reached_s);
+        }
+        other => panic!("expected a Newton failure, got {other}"),
+    }
+    let text = e.to_string();
+    assert!(
+        text.contains("lobe") && text.contains("last failure"),
+        "{text}"
+    );
+    println!("{text}");
+}
+
 #[test]
 fn bad_input_gives_clear_errors() {
     let prm = BearingParams::paper();

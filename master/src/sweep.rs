@@ -736,7 +736,8 @@ pub fn write_table(records: &[RunRecord], path: &Path) -> Result<(), String> {
 fn cell_style(r: &RunRecord) -> (Rgb, &'static str) {
     // A run that failed after its onset (the journal reached the contact limit or the film's
     // Newton iteration gave up in a violent whirl) keeps the class it had reached: an unstable run
-    // that ends in contact is no less unstable. Its label carries "(f)".
+    // that ends in contact is no less unstable. Its label carries "(f)". A run stopped by hand
+    // after its onset likewise, with "(i)".
     if r.status == "failed" && r.onset_time_s.is_some() {
         return match r.classification.as_deref() {
             Some("path1") => (Rgb(146, 197, 222), "path 1 (f)"),
@@ -744,6 +745,15 @@ fn cell_style(r: &RunRecord) -> (Rgb, &'static str) {
             Some("path2b") => (Rgb(244, 165, 130), "path 2b (f)"),
             Some("unstable_low_speed") => (Rgb(214, 96, 77), "unst.low (f)"),
             _ => (Rgb(190, 190, 190), "failed"),
+        };
+    }
+    if r.status == "interrupted" && r.onset_time_s.is_some() {
+        return match r.classification.as_deref() {
+            Some("path1") => (Rgb(146, 197, 222), "path 1 (i)"),
+            Some("path2a") => (Rgb(253, 219, 132), "path 2a (i)"),
+            Some("path2b") => (Rgb(244, 165, 130), "path 2b (i)"),
+            Some("unstable_low_speed") => (Rgb(214, 96, 77), "unst.low (i)"),
+            _ => (Rgb(225, 225, 225), "interrupted"),
         };
     }
     if r.status != "completed" {
@@ -1014,6 +1024,10 @@ mod tests {
         );
         assert_eq!(
             cell_style(&rec("interrupted", Some("path1"), Some(1.1))).1,
+            "path 1 (i)"
+        );
+        assert_eq!(
+            cell_style(&rec("interrupted", Some("stable"), None)).1,
             "interrupted"
         );
     }
