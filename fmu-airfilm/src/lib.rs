@@ -25,7 +25,7 @@ pub mod verify;
 
 pub use error::FilmError;
 pub use forces::FilmOutputs;
-pub use integrator::{AirFilm, StepStats};
+pub use integrator::{AirFilm, StepStats, P_FLOOR_REL};
 pub use params::BearingParams;
 pub use steady::{static_stiffness, steady_state, SteadySolution};
 

@@ -41,6 +41,7 @@ pub mod vr {
     pub const N_NEWTON: u32 = 4;
     pub const N_JACOBIANS: u32 = 5;
     pub const N_REJECTED: u32 = 6;
+    pub const N_PRESSURE_FLOORED: u32 = 7;
     /// Boolean value references.
     pub const PLAIN_BORE: u32 = 0;
     pub const START_STEADY: u32 = 1;
@@ -56,6 +57,9 @@ pub struct AirFilmFmu {
     /// Forces at the previous communication point and its time, for the output derivatives.
     previous: Option<(f64, [f64; 2])>,
     time_s: f64,
+    /// The vacuum floor was reported (warned once per instance). Not serialized.
+    #[serde(skip)]
+    floor_reported: bool,
 }
 
 /// FMU states: `clone_from` (fmi2GetFMUstate into an existing state, fmi2SetFMUstate) goes
@@ -67,6 +71,7 @@ impl Clone for AirFilmFmu {
             outputs: self.outputs,
             previous: self.previous,
             time_s: self.time_s,
+            floor_reported: self.floor_reported,
         }
     }
 
@@ -76,9 +81,11 @@ impl Clone for AirFilmFmu {
             outputs,
             previous,
             time_s,
+            floor_reported,
         } = src;
         self.film.clone_from(film);
         (self.outputs, self.previous, self.time_s) = (*outputs, *previous, *time_s);
+        self.floor_reported = *floor_reported;
     }
 }
 
@@ -160,6 +167,7 @@ impl Model for AirFilmFmu {
                 V::integer_output("n_newton", vr::N_NEWTON, "Newton iterations so far"),
                 V::integer_output("n_jacobians", vr::N_JACOBIANS, "Jacobian evaluations and factorizations so far"),
                 V::integer_output("n_rejected", vr::N_REJECTED, "rejected internal sub-steps so far"),
+                V::integer_output("n_pressure_floored", vr::N_PRESSURE_FLOORED, "nodal pressures raised to the vacuum floor of 1e-3 p_a so far (0 in a well-resolved film; see the documentation)"),
                 V::boolean_parameter("plain_bore", vr::PLAIN_BORE, false, "plain 360-degree bore with periodic boundary conditions (needs dH = 0)"),
                 V::boolean_parameter(
                     "start_steady",
@@ -210,6 +218,7 @@ impl Model for AirFilmFmu {
             outputs,
             previous: None,
             time_s: start_time,
+            floor_reported: false,
         })
     }
 
@@ -219,6 +228,17 @@ impl Model for AirFilmFmu {
         self.outputs = self.film.outputs();
         match result {
             Ok(stats) => {
+                if stats.n_pressure_floored > 0 && !self.floor_reported {
+                    self.floor_reported = true;
+                    log.warning(&format!(
+                        "t = {:.9} s: {} nodal pressures fell below the vacuum floor {} p_a and were \
+                         raised to it (the film is under-resolved where the gap nearly closes; \
+                         reported once, counted in n_pressure_floored)",
+                        t + h,
+                        stats.n_pressure_floored,
+                        crate::P_FLOOR_REL
+                    ));
+                }
                 self.previous = Some((t, before));
                 self.time_s = t + h;
                 log.debug(
@@ -270,6 +290,7 @@ impl Model for AirFilmFmu {
         store.integers[vr::N_NEWTON as usize] = clamp(s.n_newton_iters);
         store.integers[vr::N_JACOBIANS as usize] = clamp(s.n_jacobians);
         store.integers[vr::N_REJECTED as usize] = clamp(s.n_rejected);
+        store.integers[vr::N_PRESSURE_FLOORED as usize] = clamp(s.n_pressure_floored);
     }
 
     /// First derivatives of Fx, Fy: the backward difference over the last communication step
