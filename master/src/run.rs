@@ -46,6 +46,9 @@ pub struct RunReport {
     pub master_parts_s: Vec<(String, f64)>,
     /// What the macro-step control did (None: fixed macro step).
     pub control: Option<ControlStats>,
+    /// Integer outputs of each FMU at the end (solver counters such as the air film's
+    /// `n_pressure_floored`; counted since the start or the resumed checkpoint).
+    pub counters: Vec<(String, Vec<(String, i32)>)>,
 }
 
 /// Output sample index -> time; computed from the index so that times do not drift.
@@ -266,6 +269,7 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
     report.macro_steps = step_index;
     report.retries = built.cosim.retries;
     report.control = built.cosim.control.map(|_| built.cosim.control_stats);
+    report.counters = built.cosim.counters();
     report.wall_time_s = wall_before + start.elapsed().as_secs_f64();
     report.wall_per_subsystem_s = built
         .cosim
@@ -347,6 +351,7 @@ fn write_summary(
         "wall_in_fmus_s": report.wall_per_subsystem_s.iter().map(|(n, s)| (n.clone(), serde_json::json!(s))).collect::<serde_json::Map<_, _>>(),
         "master_overhead_s": report.master_overhead_s,
         "master_overhead_parts_s": report.master_parts_s.iter().map(|(n, s)| (n.clone(), serde_json::json!(s))).collect::<serde_json::Map<_, _>>(),
+        "fmu_counters": report.counters.iter().map(|(sub, c)| (sub.clone(), c.iter().map(|(n, v)| (n.clone(), serde_json::json!(v))).collect::<serde_json::Map<_, _>>().into())).collect::<serde_json::Map<_, serde_json::Value>>(),
         "master_overhead_percent": 100.0 * report.master_overhead_s / report.wall_time_s.max(1e-12),
         "settings": opts.extra,
         "classification": serde_json::Value::Null,

@@ -200,6 +200,21 @@ fn macro_step_control_refines_only_where_the_coupling_error_needs_it() {
         e_tight < e_off / 10.0,
         "control did not reduce the error: {e_off} -> {e_tight}"
     );
+    // The FMUs' integer outputs at the end reach the report (summary.json "fmu_counters"): the
+    // oscillators count their accepted steps, 50 at a fixed 20 ms, more when refined (rolled-back
+    // attempts are undone with the FMU state).
+    let steps = |r: &master::run::RunReport| -> Vec<(String, i32)> {
+        r.counters
+            .iter()
+            .map(|(sub, c)| (sub.clone(), c.iter().find(|(n, _)| n == "steps").unwrap().1))
+            .collect()
+    };
+    assert_eq!(steps(&off), [("a".to_string(), 50), ("b".to_string(), 50)]);
+    assert!(
+        steps(&tight).iter().all(|(_, n)| *n > 50),
+        "{:?}",
+        steps(&tight)
+    );
     // The output grid is kept: 51 samples at 20 ms, the last one at 1 s exactly.
     assert_eq!(rows_tight.len(), 51);
     assert!((rows_tight.last().unwrap()[0] - 1.0).abs() < 1e-12);

@@ -54,6 +54,8 @@ pub struct Subsystem {
     state: Option<FmuState>,
     /// Wall time spent in this FMU's fmi2DoStep.
     pub step_wall: Duration,
+    /// Integer outputs (name, value reference): solver counters, reported at the end of a run.
+    pub counters: Vec<(String, u32)>,
     // Scratch for setting inputs without allocating each step.
     vrs: Vec<u32>,
     values: Vec<f64>,
@@ -73,6 +75,15 @@ impl Subsystem {
             history: VecDeque::with_capacity(4),
             state: None,
             step_wall: Duration::ZERO,
+            counters: md
+                .variables
+                .iter()
+                .filter(|v| {
+                    v.var_type == fmi2::variables::VarType::Integer
+                        && v.causality == fmi2::variables::Causality::Output
+                })
+                .map(|v| (v.name.clone(), v.vr))
+                .collect(),
             vrs: vec![],
             values: vec![],
             orders: vec![],
@@ -702,6 +713,22 @@ impl CoSim {
             self.cover(h, depth, depth + 1, acc)?;
         }
         Ok(())
+    }
+
+    /// The integer outputs (solver counters) of every subsystem, by subsystem name; a subsystem
+    /// whose FMU refuses the read (after an error) is left out.
+    pub fn counters(&self) -> Vec<(String, Vec<(String, i32)>)> {
+        self.subs
+            .iter()
+            .filter(|s| !s.counters.is_empty())
+            .filter_map(|s| {
+                let vrs: Vec<u32> = s.counters.iter().map(|c| c.1).collect();
+                let mut v = vec![0; vrs.len()];
+                s.slave.get_integer(&vrs, &mut v).ok()?;
+                let named = s.counters.iter().map(|c| c.0.clone()).zip(v).collect();
+                Some((s.name.clone(), named))
+            })
+            .collect()
     }
 
     /// Current value of a Real variable of subsystem `i`.
