@@ -57,7 +57,8 @@ pub struct AirFilmFmu {
     /// Forces at the previous communication point and its time, for the output derivatives.
     previous: Option<(f64, [f64; 2])>,
     time_s: f64,
-    /// The vacuum floor was reported (warned once per instance). Not serialized.
+    /// The vacuum floor was reported (warned once per instance, kept across state restores).
+    /// Not serialized.
     #[serde(skip)]
     floor_reported: bool,
 }
@@ -85,7 +86,8 @@ impl Clone for AirFilmFmu {
         } = src;
         self.film.clone_from(film);
         (self.outputs, self.previous, self.time_s) = (*outputs, *previous, *time_s);
-        self.floor_reported = *floor_reported;
+        // Sticky: a roll-back to a state from before the warning must not repeat it.
+        self.floor_reported |= *floor_reported;
     }
 }
 
