@@ -122,6 +122,9 @@ enum Command {
         dir: PathBuf,
         #[arg(long)]
         checkpoint_every: Option<f64>,
+        /// Also write timeseries.parquet at the end (automatic if the run wrote one before).
+        #[arg(long)]
+        parquet: bool,
     },
     /// A parameter study of run-ups from a study file (TOML), resumable; CSV table and bifurcation maps.
     Sweep {
@@ -207,6 +210,10 @@ struct Common {
     /// No progress display.
     #[arg(long)]
     quiet: bool,
+    /// Also write the time series as timeseries.parquet when the run ends (the CSV is written as
+    /// the run goes in any case, so a killed run keeps its data).
+    #[arg(long)]
+    parquet: bool,
 }
 
 fn default_out(name: &str) -> PathBuf {
@@ -455,6 +462,7 @@ fn main() -> ExitCode {
                 quiet: common.quiet,
                 extra: serde_json::to_value(&s).unwrap_or_default(),
                 lobes: Some(lobes(s.clearance_um, s.dh_um)),
+                parquet: common.parquet,
             };
             let report = run(&sys_path, &opts, false)?;
             Ok(finish(report, &out))
@@ -476,6 +484,7 @@ fn main() -> ExitCode {
                 quiet: common.quiet,
                 extra: serde_json::json!({ "system": system }),
                 lobes: clearance.map(|c| lobes(c, dh.unwrap_or(40.0))),
+                parquet: common.parquet,
             };
             let report = run(&system, &opts, false)?;
             Ok(finish(report, &out))
@@ -483,6 +492,7 @@ fn main() -> ExitCode {
         Command::Resume {
             dir,
             checkpoint_every,
+            parquet,
         } => {
             let old: serde_json::Value = std::fs::read_to_string(dir.join("summary.json"))
                 .ok()
@@ -499,6 +509,8 @@ fn main() -> ExitCode {
                 quiet: false,
                 extra: old["settings"].clone(),
                 lobes: geometry,
+                // A run that wrote Parquet goes on writing it.
+                parquet: parquet || dir.join("timeseries.parquet").exists(),
             };
             let report = run(&dir.join("system.toml"), &opts, true)?;
             Ok(finish(report, &dir))

@@ -28,6 +28,8 @@ pub struct RunOptions {
     /// Bearing geometry (C for the eccentricities, lobes for the orbit plots); None: no run-up
     /// analysis and no plots.
     pub lobes: Option<LobeGeometry>,
+    /// Also write `timeseries.parquet` when the run ends (the CSV is written in any case).
+    pub parquet: bool,
 }
 
 #[derive(Debug, Default, serde::Serialize)]
@@ -263,6 +265,13 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
     })();
     writer.flush().map_err(|e| e.to_string())?;
     progress.show(built.cosim.t, stop, omega_port.map(|k| values[k]), true);
+    if opts.parquet {
+        crate::output::parquet_file::write(
+            &opts.out_dir.join("timeseries.parquet"),
+            &columns,
+            &rows,
+        )?;
+    }
 
     report.error = result.err();
     report.t_end_s = built.cosim.t;
