@@ -909,7 +909,14 @@ pub fn plot_maps(records: &[RunRecord], dir: &Path, stem: &str) -> std::io::Resu
                 fill: Some(fill),
                 stroke: Some(Rgb::WHITE),
             });
-            c.text(x + 0.5 * cell_w, y + 19.0, label, 12.0, Anchor::Middle);
+            // "path 1 (f)": the marker goes on the second line (such runs show no onset speed),
+            // so the label fits a narrow cell.
+            let (class, marker) = label.split_once(" (").unwrap_or((label, ""));
+            c.text(x + 0.5 * cell_w, y + 19.0, class, 12.0, Anchor::Middle);
+            if !marker.is_empty() {
+                let marker = format!("({marker}");
+                c.text(x + 0.5 * cell_w, y + 36.0, &marker, 12.0, Anchor::Middle);
+            }
             if let Some(f) = r.onset_speed_hz.filter(|_| r.status == "completed") {
                 c.text(
                     x + 0.5 * cell_w,
