@@ -265,15 +265,19 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
     })();
     writer.flush().map_err(|e| e.to_string())?;
     progress.show(built.cosim.t, stop, omega_port.map(|k| values[k]), true);
-    if opts.parquet {
+    // A failed Parquet write is reported like a failed run, but summary.json is still written.
+    let parquet_error = if opts.parquet {
         crate::output::parquet_file::write(
             &opts.out_dir.join("timeseries.parquet"),
             &columns,
             &rows,
-        )?;
-    }
+        )
+        .err()
+    } else {
+        None
+    };
 
-    report.error = result.err();
+    report.error = result.err().or(parquet_error);
     report.t_end_s = built.cosim.t;
     report.macro_steps = step_index;
     report.retries = built.cosim.retries;

@@ -208,6 +208,31 @@ fn parquet_holds_the_same_rows_as_the_csv_after_a_resume() {
     assert!(pq == rows, "Parquet and CSV rows differ");
 }
 
+/// A Parquet file that cannot be written fails the run with the reason; nothing else is lost.
+#[test]
+fn a_failed_parquet_write_is_reported_and_the_summary_still_written() {
+    let dir = tmp("parquet-fail");
+    std::fs::create_dir_all(dir.join("timeseries.parquet")).unwrap();
+    let sys = dir.join("input.toml");
+    std::fs::write(&sys, coupled("gauss-seidel", 0.01, 1, 0.05)).unwrap();
+    let mut o = opts(&dir);
+    o.parquet = true;
+    let report = run(&sys, &o, false).unwrap();
+    let e = report.error.unwrap();
+    assert!(e.contains("timeseries.parquet"), "{e}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert!(summary["error"]
+        .as_str()
+        .unwrap()
+        .contains("timeseries.parquet"));
+    let (_, rows) = master::output::timeseries::read(&dir.join("timeseries.csv")).unwrap();
+    assert!(
+        (rows.last().unwrap()[0] - 0.05).abs() < 1e-12,
+        "CSV kept to the end"
+    );
+}
+
 #[test]
 fn macro_step_control_refines_only_where_the_coupling_error_needs_it() {
     let base = coupled("gauss-seidel", 0.02, 1, 1.0).replace("interval = 1.0", "interval = 0.02");
