@@ -732,44 +732,55 @@ pub fn write_table(records: &[RunRecord], path: &Path) -> Result<(), String> {
     std::fs::write(path, s).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// What a map cell shows: its fill, a short label, and the legend name.
-fn cell_style(r: &RunRecord) -> (Rgb, &'static str) {
+/// Run-up classes and their names in the legend.
+const CLASS_NAMES: &[(&str, &str)] = &[
+    ("stable", "stable"),
+    ("path1", "path 1"),
+    ("path2a", "path 2a"),
+    ("path2b", "path 2b"),
+    ("unstable_low_speed", "unstable low"),
+    ("unstable_linear", "lin. unst."),
+];
+
+fn legend_color(name: &str) -> Rgb {
+    LEGEND
+        .iter()
+        .find(|e| e.0 == name)
+        .map_or(Rgb(240, 240, 240), |e| e.1)
+}
+
+/// What a map cell shows: its fill and a short label.
+fn cell_style(r: &RunRecord) -> (Rgb, String) {
+    let class = r
+        .classification
+        .as_deref()
+        .and_then(|c| CLASS_NAMES.iter().find(|e| e.0 == c))
+        .map(|e| e.1);
+    if r.status == "completed" {
+        return match class {
+            Some(name) => (legend_color(name), name.to_string()),
+            None => (Rgb(240, 240, 240), "unclassified".into()),
+        };
+    }
     // A run that failed after its onset (the journal reached the contact limit or the film's
-    // Newton iteration gave up in a violent whirl) keeps the class it had reached: an unstable run
-    // that ends in contact is no less unstable. Its label carries "(f)". A run stopped by hand
-    // after its onset likewise, with "(i)".
-    if r.status == "failed" && r.onset_time_s.is_some() {
-        return match r.classification.as_deref() {
-            Some("path1") => (Rgb(146, 197, 222), "path 1 (f)"),
-            Some("path2a") => (Rgb(253, 219, 132), "path 2a (f)"),
-            Some("path2b") => (Rgb(244, 165, 130), "path 2b (f)"),
-            Some("unstable_low_speed") => (Rgb(214, 96, 77), "unst.low (f)"),
-            _ => (Rgb(190, 190, 190), "failed"),
-        };
-    }
-    if r.status == "interrupted" && r.onset_time_s.is_some() {
-        return match r.classification.as_deref() {
-            Some("path1") => (Rgb(146, 197, 222), "path 1 (i)"),
-            Some("path2a") => (Rgb(253, 219, 132), "path 2a (i)"),
-            Some("path2b") => (Rgb(244, 165, 130), "path 2b (i)"),
-            Some("unstable_low_speed") => (Rgb(214, 96, 77), "unst.low (i)"),
-            _ => (Rgb(225, 225, 225), "interrupted"),
-        };
-    }
-    if r.status != "completed" {
-        return match r.status.as_str() {
-            "interrupted" => (Rgb(225, 225, 225), "interrupted"),
-            _ => (Rgb(190, 190, 190), "failed"),
-        };
-    }
-    match r.classification.as_deref() {
-        Some("stable") => (Rgb(166, 219, 160), "stable"),
-        Some("path1") => (Rgb(146, 197, 222), "path 1"),
-        Some("path2a") => (Rgb(253, 219, 132), "path 2a"),
-        Some("path2b") => (Rgb(244, 165, 130), "path 2b"),
-        Some("unstable_low_speed") => (Rgb(214, 96, 77), "unstable low"),
-        Some("unstable_linear") => (Rgb(203, 180, 227), "lin. unst."),
-        _ => (Rgb(240, 240, 240), "unclassified"),
+    // Newton iteration gave up in a violent whirl) keeps the unstable class it had reached: an
+    // unstable run that ends in contact is no less unstable. Its label carries "(f)". A run
+    // stopped by hand after its onset likewise, with "(i)".
+    let interrupted = r.status == "interrupted";
+    let reached =
+        class.filter(|n| r.onset_time_s.is_some() && !["stable", "lin. unst."].contains(n));
+    match reached {
+        Some(name) => {
+            let short = if name == "unstable low" {
+                "unst.low"
+            } else {
+                name
+            };
+            let marker = if interrupted { "i" } else { "f" };
+            (legend_color(name), format!("{short} ({marker})"))
+        }
+        None if interrupted => (Rgb(225, 225, 225), "interrupted".into()),
+        None => (legend_color("failed"), "failed".into()),
     }
 }
 
@@ -911,7 +922,7 @@ pub fn plot_maps(records: &[RunRecord], dir: &Path, stem: &str) -> std::io::Resu
             });
             // "path 1 (f)": the marker goes on the second line (such runs show no onset speed),
             // so the label fits a narrow cell.
-            let (class, marker) = label.split_once(" (").unwrap_or((label, ""));
+            let (class, marker) = label.split_once(" (").unwrap_or((&label, ""));
             c.text(x + 0.5 * cell_w, y + 19.0, class, 12.0, Anchor::Middle);
             if !marker.is_empty() {
                 let marker = format!("({marker}");
