@@ -3,41 +3,273 @@
 //! Where h < h_con = h_con_rel C, a contact pressure p_con = c_con (h_con - h) acts on the journal.
 //! It enters the force integral only (not the Reynolds equation). The gap does not depend on z,
 //! so the axial integral is exact: F_con = -b r Int p_con(phi) (cos theta, sin theta) dphi over
-//! the lobes (pockets are deeper than the lobes and never touch first). The kink of p_con at
-//! h = h_con is resolved by 8 sub-intervals of 3-point Gauss per element column.
+//! the lobes (pockets are deeper than the lobes and never touch first).
+//!
+//! The integral runs over the contact band itself, not over the film's mesh: the band can be
+//! far narrower than an element (a journal grazing the ring touches over a fraction of a degree),
+//! and the rotor evaluates the same law on its own (rotor.fmu, `contact = true`), so the result
+//! must not depend on the film's mesh. In a band the gap is sinusoid plus linear and convex
+//! (h < h_con < C forces cos(theta - theta_d) > 0), so each band is one interval around a local
+//! minimum of h; its ends are found by bisection and the smooth integrand inside by composite
+//! Gauss quadrature.
 
-use crate::geometry::gap_m;
+use crate::geometry::{gap_m, min_gap_m};
 use crate::mesh::{GAUSS3_W, GAUSS3_X};
 use crate::params::BearingParams;
 use crate::JournalState;
 
-const SUB: usize = 8;
+/// Samples per block that locate the local minima of h (as in `min_gap_m`).
+const SAMPLES: usize = 64;
+/// Sub-intervals of 3-point Gauss across one contact band.
+const BAND_PANELS: usize = 4;
 
-/// Contact force on the journal (N), [Fx, Fy]. Zero when the gap is everywhere >= h_con.
+/// Contact force on the journal (N), [Fx, Fy]. Zero when the gap is everywhere >= h_con
+/// (`h_min_m` is the minimum gap, used only to skip that case).
 pub fn contact_force_n(p: &BearingParams, j: &JournalState, h_min_m: f64) -> [f64; 2] {
     let h_con = p.h_con_rel * p.c_m;
     if h_min_m >= h_con || p.c_con_n_per_m3 == 0.0 {
         return [0.0, 0.0];
     }
-    let span = p.block_span_rad();
-    let n_int = p.n_elem_phi * SUB;
-    let ds = span / n_int as f64;
     let mut f = [0.0, 0.0];
     for k in 0..p.n_blocks() {
-        for i in 0..n_int {
-            for q in 0..3 {
-                let s = (i as f64 + 0.5 * (1.0 + GAUSS3_X[q])) * ds;
-                let h = gap_m(p, k, s, j);
-                if h < h_con {
-                    let pc = p.c_con_n_per_m3 * (h_con - h);
-                    let theta = p.block_start_rad(k) + s + p.alpha_rad;
-                    let w = 0.5 * ds * GAUSS3_W[q] * pc;
-                    f[0] -= w * theta.cos();
-                    f[1] -= w * theta.sin();
+        for (a, b) in contact_bands(p, k, j, h_con).into_iter().flatten() {
+            let w_panel = (b - a) / BAND_PANELS as f64;
+            for panel in 0..BAND_PANELS {
+                for q in 0..3 {
+                    let s = a + (panel as f64 + 0.5 * (1.0 + GAUSS3_X[q])) * w_panel;
+                    let pen = h_con - gap_m(p, k, s, j);
+                    if pen > 0.0 {
+                        let theta = p.block_start_rad(k) + s + p.alpha_rad;
+                        let w = 0.5 * w_panel * GAUSS3_W[q] * p.c_con_n_per_m3 * pen;
+                        f[0] -= w * theta.cos();
+                        f[1] -= w * theta.sin();
+                    }
                 }
             }
         }
     }
     let scale = p.b_m * p.r_m;
     [f[0] * scale, f[1] * scale]
+}
+
+/// The intervals [a, b] of block-local angle where h < h_con in block `k` (at most two: one
+/// per local minimum of the samples; a plain bore's band may wrap around s = 0 and then comes
+/// as two pieces, one at each end).
+fn contact_bands(
+    p: &BearingParams,
+    k: usize,
+    j: &JournalState,
+    h_con: f64,
+) -> [Option<(f64, f64)>; 2] {
+    let span = p.block_span_rad();
+    let s_at = |i: usize| span * i as f64 / SAMPLES as f64;
+    let h: Vec<f64> = (0..=SAMPLES).map(|i| gap_m(p, k, s_at(i), j)).collect();
+    let mut bands = [None, None];
+    let mut n = 0;
+    for i in 0..=SAMPLES {
+        let left_higher = i == 0 || h[i] < h[i - 1];
+        let right_not_lower = i == SAMPLES || h[i] <= h[i + 1];
+        if !(left_higher && right_not_lower) || n == bands.len() {
+            continue;
+        }
+        let s_min = refine_minimum(p, k, j, s_at(i), span);
+        if gap_m(p, k, s_min, j) >= h_con {
+            continue;
+        }
+        // Walk out to the first sample at or above h_con (or the block end), then bisect.
+        let mut lo = i;
+        while lo > 0 && h[lo] < h_con && s_at(lo) > 0.0 {
+            lo -= 1;
+        }
+        let mut hi = i;
+        while hi < SAMPLES && h[hi] < h_con {
+            hi += 1;
+        }
+        let a = if h[lo] < h_con {
+            0.0
+        } else {
+            crossing(p, k, j, h_con, s_at(lo), s_min)
+        };
+        let b = if h[hi] < h_con {
+            span
+        } else {
+            crossing(p, k, j, h_con, s_at(hi), s_min)
+        };
+        let (a, b) = (a.min(s_min), b.max(s_min));
+        if bands[..n]
+            .iter()
+            .flatten()
+            .any(|&(a0, b0)| a < b0 && b > a0)
+        {
+            continue; // the same band seen from a second sample
+        }
+        bands[n] = Some((a, b));
+        n += 1;
+    }
+    bands
+}
+
+/// Newton on dh/ds = 0 from a sample (h'' > 0 near a minimum), clamped to the block.
+fn refine_minimum(p: &BearingParams, k: usize, j: &JournalState, s0: f64, span: f64) -> f64 {
+    let dstep = if p.plain_bore {
+        0.0
+    } else {
+        -p.dh_m / p.phi_t_rad
+    };
+    let mut s = s0;
+    for _ in 0..8 {
+        let theta = p.block_start_rad(k) + s + p.alpha_rad;
+        let d1 = j.dx_m * theta.sin() - j.dy_m * theta.cos() + dstep;
+        let d2 = j.dx_m * theta.cos() + j.dy_m * theta.sin();
+        if d2 <= 0.0 {
+            break;
+        }
+        s = (s - d1 / d2).clamp(0.0, span);
+    }
+    // Keep the sample if Newton went astray.
+    if gap_m(p, k, s, j) <= gap_m(p, k, s0, j) {
+        s
+    } else {
+        s0
+    }
+}
+
+/// The angle between `s_out` (h >= h_con) and `s_in` (h < h_con) where h = h_con (bisection
+/// to ~1e-15 of the bracket; h is monotone there, so this is the band's end).
+fn crossing(
+    p: &BearingParams,
+    k: usize,
+    j: &JournalState,
+    h_con: f64,
+    s_out: f64,
+    s_in: f64,
+) -> f64 {
+    let (mut out, mut inside) = (s_out, s_in);
+    for _ in 0..50 {
+        let mid = 0.5 * (out + inside);
+        if gap_m(p, k, mid, j) < h_con {
+            inside = mid;
+        } else {
+            out = mid;
+        }
+    }
+    0.5 * (out + inside)
+}
+
+/// Contact force on the journal (N) at journal state `j`, for callers that do not have the
+/// minimum gap at hand (the rotor model evaluates the contact inside its own Newton iterations).
+/// The gap is at least C - |d| (the step term is >= 0), so a journal inside that circle costs
+/// one hypot instead of the minimum-gap search.
+pub fn contact_force_at_n(p: &BearingParams, j: &JournalState) -> [f64; 2] {
+    let h_con = p.h_con_rel * p.c_m;
+    if p.c_m - j.dx_m.hypot(j.dy_m) >= h_con || p.c_con_n_per_m3 == 0.0 {
+        return [0.0, 0.0];
+    }
+    contact_force_n(p, j, min_gap_m(p, j))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shortcut_agrees_with_the_full_evaluation_inside_and_beyond_the_bound() {
+        let p = BearingParams::paper();
+        let c = p.c_m;
+        // Inside C - h_con (no contact possible), on the bound, and beyond it in several
+        // directions (the lobes' trailing edges and the pockets).
+        for r_rel in [0.0, 0.5, 0.95, 0.96, 0.97, 1.0, 1.02, 1.3] {
+            for k in 0..12 {
+                let th = k as f64 * std::f64::consts::PI / 6.0 + 0.1;
+                let j = JournalState::at(r_rel * c * th.cos(), r_rel * c * th.sin(), 0.0);
+                let full = contact_force_n(&p, &j, min_gap_m(&p, &j));
+                assert_eq!(
+                    contact_force_at_n(&p, &j),
+                    full,
+                    "r = {r_rel} C, theta = {th}"
+                );
+            }
+        }
+        // Beyond the bound towards a lobe's trailing edge the force is non-zero and pushes back.
+        let th = p.phi_t_rad + p.alpha_rad - 0.005;
+        let j = JournalState::at(0.99 * c * th.cos(), 0.99 * c * th.sin(), 0.0);
+        let f = contact_force_at_n(&p, &j);
+        assert!(f[0] * th.cos() + f[1] * th.sin() < -1.0, "{f:?}");
+    }
+
+    /// Brute force: midpoint rule with `n` points per block over the whole block.
+    fn reference(p: &BearingParams, j: &JournalState, n: usize) -> [f64; 2] {
+        let h_con = p.h_con_rel * p.c_m;
+        let span = p.block_span_rad();
+        let mut f = [0.0, 0.0];
+        for k in 0..p.n_blocks() {
+            for i in 0..n {
+                let s = span * (i as f64 + 0.5) / n as f64;
+                let pen = h_con - gap_m(p, k, s, j);
+                if pen > 0.0 {
+                    let th = p.block_start_rad(k) + s + p.alpha_rad;
+                    let w = p.c_con_n_per_m3 * pen * span / n as f64 * p.b_m * p.r_m;
+                    f[0] -= w * th.cos();
+                    f[1] -= w * th.sin();
+                }
+            }
+        }
+        f
+    }
+
+    #[test]
+    fn a_grazing_journal_gets_the_band_integral_on_any_mesh() {
+        // A journal that just touches a lobe: the band is ~1 degree wide, narrower than an
+        // element of the paper's mesh (5.5 degrees). Also bands at a lobe's end and in the middle.
+        let p = BearingParams::paper();
+        let c = p.c_m;
+        // Directions: lobe 2 past its middle (theta = 260 deg), near lobe 1's trailing edge, and
+        // the bottom; minimum gaps 0.9 h_con (grazing), 0.5 h_con and -2 h_con (deep).
+        let deg = std::f64::consts::PI / 180.0;
+        let h_con = p.h_con_rel * c;
+        let cases = [
+            (260.0 * deg, 0.9 * h_con),
+            (178.0 * deg, 0.5 * h_con),
+            (270.0 * deg, -2.0 * h_con),
+        ];
+        for (th, h_min) in cases {
+            // The eccentricity that gives this minimum gap (bisection; h_min falls with it).
+            let at = |r: f64| JournalState::at(r * th.cos(), r * th.sin(), 0.0);
+            let (mut lo, mut hi) = (0.0, 3.0 * c);
+            for _ in 0..100 {
+                let mid = 0.5 * (lo + hi);
+                if min_gap_m(&p, &at(mid)) > h_min {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            let (j, r_rel) = (at(lo), lo / c);
+            let f = contact_force_at_n(&p, &j);
+            let fr = reference(&p, &j, 2_000_000);
+            let mag = fr[0].hypot(fr[1]);
+            assert!(mag > 0.0, "no contact at theta = {th}, r = {r_rel} C");
+            let err = (f[0] - fr[0]).hypot(f[1] - fr[1]) / mag;
+            assert!(
+                err < 1e-6,
+                "theta {th}, r {r_rel} C: {f:?} vs {fr:?} (rel. error {err:.2e})"
+            );
+            // The film's mesh does not enter.
+            for n_elem_phi in [4, 20, 80] {
+                let pm = BearingParams {
+                    n_elem_phi,
+                    ..p.clone()
+                };
+                assert_eq!(contact_force_at_n(&pm, &j), f);
+            }
+        }
+        // A plain bore whose band wraps around s = 0 (journal towards theta = 0).
+        let pb = BearingParams::plain_bore();
+        let j = JournalState::at(0.99 * pb.c_m, 1e-3 * pb.c_m, 0.0);
+        let (f, fr) = (contact_force_at_n(&pb, &j), reference(&pb, &j, 2_000_000));
+        assert!(
+            fr[0] < -1.0 && ((f[0] - fr[0]) / fr[0]).abs() < 1e-6,
+            "{f:?} vs {fr:?}"
+        );
+    }
 }

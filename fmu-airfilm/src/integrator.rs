@@ -693,9 +693,10 @@ pub(crate) fn outputs_for(
     let h_min_m = min_gap_m(prm, j);
     let fc = contact::contact_force_n(prm, j, h_min_m);
     let p_max = p.iter().cloned().fold(f64::NEG_INFINITY, f64::max) * prm.p_a_pa;
+    let in_force = if prm.contact_in_force { 1.0 } else { 0.0 };
     FilmOutputs {
-        fx_n: fp[0] + fc[0],
-        fy_n: fp[1] + fc[1],
+        fx_n: fp[0] + in_force * fc[0],
+        fy_n: fp[1] + in_force * fc[1],
         fx_contact_n: fc[0],
         fy_contact_n: fc[1],
         f_contact_n: fc[0].hypot(fc[1]),

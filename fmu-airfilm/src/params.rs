@@ -35,6 +35,9 @@ pub struct BearingParams {
     pub n_elem_z: usize,
     /// Plain 360-degree bore with periodic boundary conditions (dH must be 0).
     pub plain_bore: bool,
+    /// Add the contact force to the film force output (false when the rotor model evaluates
+    /// the contact itself, implicitly inside its own steps; see docs/fmu-guide.md).
+    pub contact_in_force: bool,
     /// Relative tolerance of the local error control.
     pub rtol: f64,
     /// Absolute pressure tolerance of the local error control.
@@ -68,6 +71,7 @@ impl BearingParams {
             n_elem_phi: 20,
             n_elem_z: 6,
             plain_bore: false,
+            contact_in_force: true,
             rtol: 1e-4,
             atol_pa: 10.0,
             max_substeps: 100_000,

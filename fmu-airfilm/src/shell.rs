@@ -45,6 +45,7 @@ pub mod vr {
     /// Boolean value references.
     pub const PLAIN_BORE: u32 = 0;
     pub const START_STEADY: u32 = 1;
+    pub const CONTACT_IN_FORCE: u32 = 2;
 }
 
 const DOC: &str = include_str!("shell_doc.html");
@@ -112,6 +113,7 @@ pub fn params_from(store: &Store) -> BearingParams {
     p.n_elem_phi = store.integer(vr::N_ELEM_PHI).max(0) as usize;
     p.n_elem_z = store.integer(vr::N_ELEM_Z).max(0) as usize;
     p.plain_bore = store.boolean(vr::PLAIN_BORE);
+    p.contact_in_force = store.boolean(vr::CONTACT_IN_FORCE);
     p
 }
 
@@ -154,12 +156,12 @@ impl Model for AirFilmFmu {
                 V::real_input("vx", vr::VX, 0.0, "m/s", "journal velocity relative to the ring, x").display("mm/s"),
                 V::real_input("vy", vr::VY, 0.0, "m/s", "journal velocity relative to the ring, y").display("mm/s"),
                 V::real_input("omega", vr::OMEGA, 0.0, "rad/s", "rotor speed (positive: right-handed about +z)").display("Hz"),
-                V::real_output("Fx", vr::FX, "N", "force of film and contact on the journal, x (the ring feels -Fx)"),
-                V::real_output("Fy", vr::FY, "N", "force of film and contact on the journal, y (the ring feels -Fy)"),
+                V::real_output("Fx", vr::FX, "N", "force of the film (and of the contact if contact_in_force) on the journal, x (the ring feels -Fx)"),
+                V::real_output("Fy", vr::FY, "N", "force of the film (and of the contact if contact_in_force) on the journal, y (the ring feels -Fy)"),
                 V::real_output("eps", vr::EPS, "1", "eccentricity ratio |d| / C (may exceed 1 without contact)"),
                 V::real_output("h_min", vr::H_MIN, "m", "minimum gap on the lobes").display("um"),
                 V::real_output("p_max", vr::P_MAX, "Pa", "peak film pressure (absolute)").display("bar"),
-                V::real_output("F_contact", vr::F_CONTACT, "N", "magnitude of the mixed-lubrication contact force"),
+                V::real_output("F_contact", vr::F_CONTACT, "N", "magnitude of the mixed-lubrication contact force (reported even when contact_in_force = false)"),
                 V::integer_parameter("n_lobes", vr::N_LOBES, p.n_lobes as i32, "number of lobes").range(Some(1.0), Some(12.0)),
                 V::integer_parameter("n_elem_phi", vr::N_ELEM_PHI, p.n_elem_phi as i32, "elements along each lobe (paper: 20)")
                     .range(Some(1.0), Some(2000.0)),
@@ -171,6 +173,12 @@ impl Model for AirFilmFmu {
                 V::integer_output("n_rejected", vr::N_REJECTED, "rejected internal sub-steps so far"),
                 V::integer_output("n_pressure_floored", vr::N_PRESSURE_FLOORED, "nodal pressures raised to the vacuum floor of 1e-3 p_a so far (0 in a well-resolved film; see the documentation)"),
                 V::boolean_parameter("plain_bore", vr::PLAIN_BORE, false, "plain 360-degree bore with periodic boundary conditions (needs dH = 0)"),
+                V::boolean_parameter(
+                    "contact_in_force",
+                    vr::CONTACT_IN_FORCE,
+                    p.contact_in_force,
+                    "add the contact force to Fx, Fy; false when the rotor evaluates the contact itself (rotor.fmu parameter contact = true), which keeps the stiff contact out of the explicit coupling",
+                ),
                 V::boolean_parameter(
                     "start_steady",
                     vr::START_STEADY,

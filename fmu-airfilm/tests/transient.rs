@@ -337,6 +337,39 @@ fn contact_pressure_acts_below_h_con() {
     }
     fy *= prm.b_m * prm.r_m;
     println!("eps 0.98 plain bore: F = ({:.3}, {:.3}) N, contact {:.3} N (reference {fy:.3} N), h_min {:.3e} m", o.fx_n, o.fy_n, o.fy_contact_n, o.h_min_m);
-    assert!(o.fy_contact_n > 0.0 && ((o.fy_contact_n - fy) / fy).abs() < 1e-3);
+    assert!(o.fy_contact_n > 0.0 && ((o.fy_contact_n - fy) / fy).abs() < 1e-6);
     assert!(o.fx_n.is_finite() && o.fy_n > o.fy_contact_n);
+}
+
+#[test]
+fn contact_in_force_false_leaves_exactly_the_contact_out_of_the_force() {
+    // Same film, journal in the contact band: with contact_in_force = false the force output is
+    // the pressure force alone; the contact force is still reported (the rotor applies it).
+    let with = BearingParams::plain_bore();
+    let without = BearingParams {
+        contact_in_force: false,
+        ..with.clone()
+    };
+    let j = JournalState::at(0.0, -0.98 * with.c_m, 2.0 * PI * 1000.0);
+    let a = steady_state(&with, j).unwrap().outputs;
+    let b = steady_state(&without, j).unwrap().outputs;
+    assert!(a.fy_contact_n > 1.0, "not in contact: {a:?}");
+    assert_eq!(
+        (b.fx_contact_n, b.fy_contact_n),
+        (a.fx_contact_n, a.fy_contact_n)
+    );
+    // Same pressure field (the contact is not in the Reynolds equation): equal up to the
+    // rounding of (F_p + F_c) - F_c.
+    let tol = 1e-12 * a.fy_n.abs();
+    assert!(
+        (b.fx_n - (a.fx_n - a.fx_contact_n)).abs() <= tol,
+        "{b:?} vs {a:?}"
+    );
+    assert!(
+        (b.fy_n - (a.fy_n - a.fy_contact_n)).abs() <= tol,
+        "{b:?} vs {a:?}"
+    );
+    // And the force the rotor evaluates for that displacement is the film's contact force.
+    let rotor_side = fmu_airfilm::contact::contact_force_at_n(&without, &j);
+    assert_eq!(rotor_side, [a.fx_contact_n, a.fy_contact_n]);
 }

@@ -102,6 +102,11 @@ pub struct RotorParams {
     /// exceeding it is a StepFailure (fmi2Discard). Raise it together with very tight tolerances.
     #[serde(default = "default_max_steps")]
     pub max_steps_per_call: u64,
+    /// Journal-ring contact evaluated inside the rotor (both bearings, this geometry and
+    /// penalty law; only the geometry and contact fields are used). None: the contact force
+    /// arrives with the film force inputs. Inside the rotor the stiff contact is integrated
+    /// implicitly instead of being extrapolated over a macro step (docs/convergence.md).
+    pub contact: Option<fmu_airfilm::BearingParams>,
 }
 
 fn default_max_steps() -> u64 {
@@ -143,6 +148,7 @@ impl RotorParams {
             atol_vel: 1e-5,
             h_max_s: 1e-4,
             max_steps_per_call: crate::integrator::MAX_STEPS_PER_CALL,
+            contact: None,
         }
     }
 
@@ -275,7 +281,34 @@ impl RotorParams {
                 return bad("imbalance radius", im.radius_m, "must be >= 0");
             }
         }
+        if let Some(b) = &self.contact {
+            if let Err(fmu_airfilm::FilmError::InvalidParameter {
+                name,
+                value,
+                reason,
+            }) = b.validate()
+            {
+                return bad(contact_name(name), value, reason);
+            }
+        }
         Ok(())
+    }
+}
+
+/// The rotor FMU's name of a bearing-geometry parameter of the contact (the air film's name
+/// with a `bearing_` prefix).
+fn contact_name(film_name: &str) -> &'static str {
+    match film_name {
+        "r" => "bearing_r",
+        "b" => "bearing_b",
+        "C" => "bearing_C",
+        "dH" => "bearing_dH",
+        "phi_t" => "bearing_phi_t",
+        "alpha" => "bearing_alpha",
+        "n_lobes" => "bearing_n_lobes",
+        "h_con_rel" => "bearing_h_con_rel",
+        "c_con" => "bearing_c_con",
+        _ => "bearing geometry",
     }
 }
 

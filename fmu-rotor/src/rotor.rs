@@ -67,6 +67,8 @@ pub struct BearingOutputs {
     pub journal_m: [f64; 2],
     /// Absolute ring centre [m].
     pub ring_m: [f64; 2],
+    /// Contact force on the journal evaluated by the rotor [N] (0 unless `RotorParams::contact`).
+    pub contact_n: [f64; 2],
 }
 
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
@@ -202,6 +204,16 @@ pub fn build_system(p: &RotorParams, films: Option<&[FilmCoefficients; 2]>) -> M
             reaction_body: None,
         },
     ];
+    if let Some(bearing) = &p.contact {
+        for (ring, s) in [(RING_C, s_c), (RING_T, s_t)] {
+            forces.push(ForceElement::RingContact {
+                body_a: ROTOR,
+                s_a_m: s,
+                body_b: ring,
+                bearing: Box::new(bearing.clone()),
+            });
+        }
+    }
     if let Some(f) = films {
         for (i, (ring, s)) in [(RING_C, s_c), (RING_T, s_t)].into_iter().enumerate() {
             forces.push(ForceElement::Film {
@@ -339,13 +351,18 @@ impl Rotor {
         let vj = k.point_vel(s);
         let rr = [x[6 * ring], x[6 * ring + 1]];
         let vr = [v[6 * ring], v[6 * ring + 1]];
+        let dr = [pj[0] - rr[0], pj[1] - rr[1]];
         BearingOutputs {
-            dx_m: pj[0] - rr[0],
-            dy_m: pj[1] - rr[1],
+            dx_m: dr[0],
+            dy_m: dr[1],
             vx_m_s: vj[0] - vr[0],
             vy_m_s: vj[1] - vr[1],
             journal_m: [pj[0], pj[1]],
             ring_m: rr,
+            contact_n: match &self.params.contact {
+                Some(b) => crate::system::ring_contact_force_n(b, dr),
+                None => [0.0, 0.0],
+            },
         }
     }
 

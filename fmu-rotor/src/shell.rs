@@ -59,12 +59,27 @@ pub mod vr {
     /// Random journal disturbance (see `crate::disturbance`).
     pub const DIST_FORCE: u32 = 52;
     pub const DIST_INTERVAL: u32 = 53;
+    /// Contact evaluated in the rotor (Boolean CONTACT): force magnitudes and bearing geometry.
+    pub const F_CONTACT_C: u32 = 54;
+    pub const F_CONTACT_T: u32 = 55;
+    pub const BEARING_R: u32 = 56;
+    pub const BEARING_B: u32 = 57;
+    pub const BEARING_C: u32 = 58;
+    pub const BEARING_DH: u32 = 59;
+    pub const BEARING_PHI_T: u32 = 60;
+    pub const BEARING_ALPHA: u32 = 61;
+    pub const BEARING_H_CON_REL: u32 = 62;
+    pub const BEARING_C_CON: u32 = 63;
     /// Integer value references.
     pub const N_STEPS: u32 = 0;
     pub const N_REJECTED: u32 = 1;
     pub const N_NEWTON: u32 = 2;
     pub const DIST_SEED: u32 = 3;
     pub const MAX_STEPS: u32 = 4;
+    pub const BEARING_N_LOBES: u32 = 5;
+    /// Boolean value references.
+    pub const CONTACT: u32 = 0;
+    pub const BEARING_PLAIN_BORE: u32 = 1;
 }
 
 const DOC: &str = include_str!("shell_doc.html");
@@ -110,7 +125,55 @@ fn params_from(s: &Store) -> RotorParams {
         // Any Integer is a valid seed; its bit pattern is used as is.
         seed: s.integer(vr::DIST_SEED) as u32 as u64,
     };
+    p.contact = s.boolean(vr::CONTACT).then(|| fmu_airfilm::BearingParams {
+        r_m: s.real(vr::BEARING_R),
+        b_m: s.real(vr::BEARING_B),
+        c_m: s.real(vr::BEARING_C),
+        dh_m: s.real(vr::BEARING_DH),
+        phi_t_rad: s.real(vr::BEARING_PHI_T),
+        alpha_rad: s.real(vr::BEARING_ALPHA),
+        h_con_rel: s.real(vr::BEARING_H_CON_REL),
+        c_con_n_per_m3: s.real(vr::BEARING_C_CON),
+        n_lobes: s.integer(vr::BEARING_N_LOBES).max(0) as usize,
+        plain_bore: s.boolean(vr::BEARING_PLAIN_BORE),
+        ..fmu_airfilm::BearingParams::paper()
+    });
     p
+}
+
+/// The contact switch, the bearing geometry it uses (the air film's parameters with a
+/// `bearing_` prefix, same defaults) and the contact force outputs.
+fn contact_vars() -> Vec<Variable> {
+    use Variable as V;
+    let b = fmu_airfilm::BearingParams::paper();
+    vec![
+        V::boolean_parameter(
+            "contact",
+            vr::CONTACT,
+            false,
+            "evaluate the journal-ring contact of both bearings here, implicitly inside the rotor's steps (set the films' contact_in_force = false then); false: the contact force arrives with F_C_x ... F_T_y",
+        ),
+        V::real_parameter("bearing_r", vr::BEARING_R, b.r_m, "m", "journal radius of the contact geometry; set it equal to the air films' r")
+            .display("mm"),
+        V::real_parameter("bearing_b", vr::BEARING_B, b.b_m, "m", "bearing width of the contact geometry; set it equal to the air films' b")
+            .display("mm"),
+        V::real_parameter("bearing_C", vr::BEARING_C, b.c_m, "m", "nominal clearance of the contact geometry; set it equal to the air films' C")
+            .display("um"),
+        V::real_parameter("bearing_dH", vr::BEARING_DH, b.dh_m, "m", "step height of the contact geometry; set it equal to the air films' dH")
+            .display("um"),
+        V::real_parameter("bearing_phi_t", vr::BEARING_PHI_T, b.phi_t_rad, "rad", "lobe angle of the contact geometry; set it equal to the air films' phi_t")
+            .display("deg"),
+        V::real_parameter("bearing_alpha", vr::BEARING_ALPHA, b.alpha_rad, "rad", "ring orientation of the contact geometry; set it equal to the air films' alpha")
+            .display("deg"),
+        V::real_parameter("bearing_h_con_rel", vr::BEARING_H_CON_REL, b.h_con_rel, "1", "contact threshold h_con / C; set it equal to the air films' h_con_rel"),
+        V::real_parameter("bearing_c_con", vr::BEARING_C_CON, b.c_con_n_per_m3, "N/m3", "penalty stiffness of the contact pressure; set it equal to the air films' c_con")
+            .display("N/mm3"),
+        V::integer_parameter("bearing_n_lobes", vr::BEARING_N_LOBES, b.n_lobes as i32, "number of lobes of the contact geometry; set it equal to the air films' n_lobes")
+            .range(Some(1.0), Some(12.0)),
+        V::boolean_parameter("bearing_plain_bore", vr::BEARING_PLAIN_BORE, false, "plain 360-degree bore as contact geometry; set it equal to the air films' plain_bore"),
+        V::real_output("F_contact_C", vr::F_CONTACT_C, "N", "magnitude of the contact force evaluated here, compressor side (0 unless contact)"),
+        V::real_output("F_contact_T", vr::F_CONTACT_T, "N", "magnitude of the contact force evaluated here, turbine side (0 unless contact)"),
+    ]
 }
 
 fn imbalance_vars(side: &'static [&'static str; 4], base: u32, d: &Imbalance) -> Vec<Variable> {
@@ -476,6 +539,7 @@ impl Model for RotorFmu {
             )
             .range(Some(1.0), Some(crate::params::MAX_STEPS_LIMIT as f64)),
         ]);
+        variables.extend(contact_vars());
         ModelInfo {
             model_name: "rotor",
             model_identifier: "rotor",
@@ -556,6 +620,8 @@ impl Model for RotorFmu {
         r[vr::SPIN_ANGLE as usize] = o.spin_angle_rad;
         r[vr::DRIFT_POS as usize] = o.drift_pos;
         r[vr::DRIFT_VEL as usize] = o.drift_vel;
+        r[vr::F_CONTACT_C as usize] = o.bearing_c.contact_n[0].hypot(o.bearing_c.contact_n[1]);
+        r[vr::F_CONTACT_T as usize] = o.bearing_t.contact_n[0].hypot(o.bearing_t.contact_n[1]);
         let s = &self.rotor.integrator().totals;
         let clamp = |n: u64| n.min(i32::MAX as u64) as i32;
         store.integers[vr::N_STEPS as usize] = clamp(s.steps);

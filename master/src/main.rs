@@ -91,6 +91,11 @@ struct RunupArgs {
     /// defaults are 1e-4,10]
     #[arg(long)]
     film_tolerance: Option<String>,
+    /// Where the journal-ring contact is evaluated: "rotor" (implicitly inside the rotor's
+    /// steps; for run-ups whose journals ride on their rings) or "film" (with the film force)
+    /// [default: film]
+    #[arg(long)]
+    contact: Option<String>,
     /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
     #[arg(long)]
     fmu_dir: Option<PathBuf>,
@@ -282,6 +287,9 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     }
     if let Some(sc) = &a.step_control {
         s.step_control = master::runup::parse_step_control(sc)?;
+    }
+    if let Some(c) = &a.contact {
+        s.contact = master::runup::ContactSide::parse(c)?;
     }
     if let Some(m) = &a.mesh {
         (s.n_elem_phi, s.n_elem_z) = master::runup::parse_mesh(m, "--mesh")?;

@@ -39,6 +39,28 @@ pub struct RunupSettings {
     /// Air-film time-integration tolerances [rtol, atol in Pa]; None = the FMU's own defaults
     /// (1e-4, 10 Pa). Run-ups use DEFAULT_FILM_TOLERANCE (docs/convergence.md).
     pub film_tolerance: Option<[f64; 2]>,
+    /// Where the journal-ring contact is evaluated: in the rotor (implicitly, inside its own
+    /// steps) or in the air films (its force extrapolated with the film force over each macro
+    /// step). See docs/convergence.md.
+    pub contact: ContactSide,
+}
+
+/// Which FMU evaluates the mixed-lubrication contact of a run-up.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ContactSide {
+    Rotor,
+    Film,
+}
+
+impl ContactSide {
+    pub fn parse(s: &str) -> Result<Self, String> {
+        match s {
+            "rotor" => Ok(ContactSide::Rotor),
+            "film" => Ok(ContactSide::Film),
+            other => Err(format!("--contact '{other}': expected 'rotor' or 'film'")),
+        }
+    }
 }
 
 impl RunupSettings {
@@ -75,6 +97,7 @@ impl RunupSettings {
             serial_films: false,
             step_control: Some(DEFAULT_STEP_CONTROL),
             film_tolerance: Some(DEFAULT_FILM_TOLERANCE),
+            contact: DEFAULT_CONTACT,
         })
     }
 
@@ -132,14 +155,22 @@ impl RunupSettings {
         .unwrap();
         writeln!(
             s,
-            "parameters = {{ c_C = \"{c} N/mm\", c_T = \"{c} N/mm\", d_C = {d:?}, d_T = {d:?}, m_R_C = \"{m} g\", m_R_T = \"{m} g\", f_max = {f:?}, t_ramp = {tr:?}, m_imb_C = \"{mc} g\", r_imb_C = \"{rc} mm\", phase_imb_C = \"{pc} deg\", m_imb_T = \"{mt} g\", r_imb_T = \"{rt} mm\", phase_imb_T = \"{pt} deg\", disturbance_force = \"{dist} mN\", disturbance_seed = {seed} }}",
+            "parameters = {{ c_C = \"{c} N/mm\", c_T = \"{c} N/mm\", d_C = {d:?}, d_T = {d:?}, m_R_C = \"{m} g\", m_R_T = \"{m} g\", f_max = {f:?}, t_ramp = {tr:?}, m_imb_C = \"{mc} g\", r_imb_C = \"{rc} mm\", phase_imb_C = \"{pc} deg\", m_imb_T = \"{mt} g\", r_imb_T = \"{rt} mm\", phase_imb_T = \"{pt} deg\", disturbance_force = \"{dist} mN\", disturbance_seed = {seed}{contact} }}",
             c = self.c_n_per_mm,
             d = self.d_n_s_per_m,
             m = self.m_r_g,
             f = self.f_max_hz,
             tr = self.t_ramp_s,
             dist = self.disturbance_mn,
-            seed = self.disturbance_seed
+            seed = self.disturbance_seed,
+            // The rotor evaluates the contact on the films' geometry (paper defaults otherwise).
+            contact = match self.contact {
+                ContactSide::Rotor => format!(
+                    ", contact = true, bearing_C = \"{} um\", bearing_dH = \"{} um\"",
+                    self.clearance_um, self.dh_um
+                ),
+                ContactSide::Film => String::new(),
+            }
         )
         .unwrap();
         for side in ["C", "T"] {
@@ -152,9 +183,13 @@ impl RunupSettings {
                 Some([rtol, atol]) => format!(", rtol = {rtol:?}, atol = \"{atol} Pa\""),
                 None => String::new(),
             };
+            let contact = match self.contact {
+                ContactSide::Rotor => ", contact_in_force = false",
+                ContactSide::Film => "",
+            };
             writeln!(
                 s,
-                "parameters = {{ C = \"{} um\", dH = \"{} um\", n_elem_phi = {}, n_elem_z = {}{tol} }}",
+                "parameters = {{ C = \"{} um\", dH = \"{} um\", n_elem_phi = {}, n_elem_z = {}{tol}{contact} }}",
                 self.clearance_um, self.dh_um, self.n_elem_phi, self.n_elem_z
             )
             .unwrap();
@@ -273,6 +308,9 @@ pub const RECORDED: &[&str] = &[
     "film_T.h_min",
     "film_C.p_max",
     "film_T.p_max",
+    // Contact force magnitudes (reported by the films whichever side evaluates the contact).
+    "film_C.F_contact",
+    "film_T.F_contact",
 ];
 
 /// Default macro step and polynomial orders (see docs/convergence.md for the study behind them).
@@ -281,6 +319,8 @@ pub const DEFAULT_MACRO_STEP_US: f64 = 20.0;
 /// defaults, which changes the Section 3 onsets by < 1e-5 and eccentricities by < 0.2 % and
 /// makes a run-up 1.5x faster (docs/convergence.md).
 pub const DEFAULT_FILM_TOLERANCE: [f64; 2] = [1e-3, 100.0];
+/// Default side of the contact evaluation (docs/convergence.md).
+pub const DEFAULT_CONTACT: ContactSide = ContactSide::Film;
 /// Default macro-step control: [rtol, atol in N] of the extrapolated bearing forces.
 pub const DEFAULT_STEP_CONTROL: [f64; 2] = [0.1, 1.0];
 pub const DEFAULT_EXTRAPOLATION_ORDER: u8 = 1;
@@ -316,5 +356,37 @@ mod tests {
         );
         s.step_control = None;
         assert!(!s.system_toml("fmus").contains("step_control"));
+    }
+
+    #[test]
+    fn contact_side_sets_both_fmus_consistently() {
+        assert_eq!(ContactSide::parse("rotor"), Ok(ContactSide::Rotor));
+        assert_eq!(ContactSide::parse("film"), Ok(ContactSide::Film));
+        assert!(ContactSide::parse("ring")
+            .unwrap_err()
+            .starts_with("--contact"));
+        let mut s = RunupSettings::preset("path1").unwrap();
+        s.clearance_um = 15.0;
+        s.dh_um = 0.0;
+        s.contact = ContactSide::Rotor;
+        let text = s.system_toml("fmus");
+        // The rotor gets the films' clearance and step height; both films leave it out.
+        assert!(
+            text.contains(", contact = true, bearing_C = \"15 um\", bearing_dH = \"0 um\" }"),
+            "{text}"
+        );
+        assert_eq!(
+            text.matches("contact_in_force = false").count(),
+            2,
+            "{text}"
+        );
+        let sys = crate::system::System::parse(std::path::Path::new("s.toml"), text).unwrap();
+        assert_eq!(sys.file.fmu.len(), 3);
+        s.contact = ContactSide::Film;
+        let text = s.system_toml("fmus");
+        assert!(
+            !text.contains("contact =") && !text.contains("contact_in_force"),
+            "{text}"
+        );
     }
 }

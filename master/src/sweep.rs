@@ -51,6 +51,7 @@ pub const KEYS: &[(&str, &str, &str, &str)] = &[
     ("disturbance_seed", "seed", "disturbance_seed", ""),
     ("output_interval", "out", "output_interval_us", "us"),
     ("jacobi", "jacobi", "jacobi", ""),
+    ("contact", "contact", "contact", ""),
     ("fmu_dir", "fmu", "", ""),
 ];
 

@@ -1,0 +1,111 @@
+//! The journal-ring contact evaluated inside the rotor (`RotorParams::contact`): the rotor
+//! dropped onto its bearings with no film force comes to rest on the contact, and the rest state
+//! obeys the static balance of every body.
+
+use fmu_airfilm::BearingParams;
+use fmu_rotor::{BearingForces, FilmCoefficients, Rotor, RotorOutputs, RotorParams};
+
+const MACRO_S: f64 = 1e-4;
+
+fn no_film(_t: f64) -> BearingForces {
+    BearingForces::default()
+}
+
+/// Paper rotor without spin; `damper` adds a pure viscous link between journal and ring (a
+/// stand-in for the squeeze film) so the drop settles in a few tens of milliseconds.
+fn dropped(contact: bool, damper_n_s_m: f64, t_end_s: f64) -> (Rotor, RotorOutputs) {
+    let p = RotorParams {
+        f_max_hz: 0.0,
+        contact: contact.then(BearingParams::paper),
+        ..RotorParams::paper()
+    };
+    let film = FilmCoefficients::isotropic(0.0, damper_n_s_m);
+    let mut r = Rotor::with_linear_films(p, [film, film]).unwrap();
+    let n = (t_end_s / MACRO_S).round() as usize;
+    for i in 0..n {
+        r.advance(i as f64 * MACRO_S, MACRO_S, &no_film).unwrap();
+    }
+    let o = r.outputs();
+    (r, o)
+}
+
+#[test]
+fn a_dropped_rotor_rests_on_the_contact_in_static_balance() {
+    let (r, o) = dropped(true, 3000.0, 0.3);
+    let p = r.params();
+    let b = BearingParams::paper();
+    let w_rotor_n = p.m_kg * p.g_m_s2;
+    let fc = [o.bearing_c.contact_n, o.bearing_t.contact_n];
+    // Rotor: the two contact forces carry its weight (no film force, damper at rest).
+    let sum_y = fc[0][1] + fc[1][1];
+    let sum_x = fc[0][0] + fc[1][0];
+    assert!(
+        (sum_y - w_rotor_n).abs() < 1e-3 * w_rotor_n,
+        "{sum_y} N vs {w_rotor_n} N"
+    );
+    assert!(sum_x.abs() < 1e-3 * w_rotor_n, "x {sum_x} N");
+    // Moment balance about the centre of mass: the bearing loads split as the lever arms.
+    let (a_c, a_t) = (p.z_jc_m - p.z_cm_m, p.z_cm_m - p.z_jt_m);
+    let expect_c = w_rotor_n * a_t / (a_c + a_t);
+    assert!(
+        (fc[0][1] - expect_c).abs() < 2e-3 * w_rotor_n,
+        "{} N vs {expect_c} N",
+        fc[0][1]
+    );
+    // Rings: mount force balances ring weight plus the journal's push (-F_contact).
+    for (bo, c_n_m, m_kg) in [
+        (&o.bearing_c, p.c_c_n_m, p.m_r_c_kg),
+        (&o.bearing_t, p.c_t_n_m, p.m_r_t_kg),
+    ] {
+        let y_expect = -(m_kg * p.g_m_s2 + bo.contact_n[1]) / c_n_m;
+        assert!(
+            (bo.ring_m[1] - y_expect).abs() < 2e-3 * y_expect.abs(),
+            "ring y {} vs {y_expect}",
+            bo.ring_m[1]
+        );
+        // The journal sits in the contact band: beyond C - h_con from the centre, yet the
+        // penetration needed to carry ~4 N on a penalty of 1e16 N/m^3 is far below 1 um.
+        let e = bo.dx_m.hypot(bo.dy_m);
+        assert!(e > b.c_m * (1.0 - b.h_con_rel), "eccentricity {e} m");
+        let h_min = fmu_airfilm::geometry::min_gap_m(
+            &b,
+            &fmu_airfilm::JournalState::at(bo.dx_m, bo.dy_m, 0.0),
+        );
+        let h_con = b.h_con_rel * b.c_m;
+        assert!(
+            h_min < h_con && h_min > h_con - 0.1e-6,
+            "h_min {h_min} m, h_con {h_con} m"
+        );
+        // At rest.
+        assert!(
+            bo.vx_m_s.hypot(bo.vy_m_s) < 1e-5,
+            "still moving: {} m/s",
+            bo.vx_m_s.hypot(bo.vy_m_s)
+        );
+    }
+}
+
+#[test]
+fn without_the_contact_the_rotor_falls_through_the_clearance() {
+    // The same drop with the contact off: nothing holds the journal (the contrast that shows
+    // the contact force above is the rotor's own, not the damper's).
+    let (_, o) = dropped(false, 3000.0, 0.03);
+    assert!(
+        o.bearing_c.dy_m < -2.0 * BearingParams::paper().c_m,
+        "dy_C = {} m",
+        o.bearing_c.dy_m
+    );
+}
+
+#[test]
+fn a_bad_contact_geometry_is_reported_under_the_rotor_parameter_name() {
+    let p = RotorParams {
+        contact: Some(BearingParams {
+            c_m: -1e-6,
+            ..BearingParams::paper()
+        }),
+        ..RotorParams::paper()
+    };
+    let e = Rotor::new(p).unwrap_err().to_string();
+    assert!(e.contains("bearing_C"), "{e}");
+}
