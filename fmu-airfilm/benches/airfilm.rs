@@ -10,8 +10,43 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// The contact law as the rotor calls it (inside its Newton iterations and finite-difference
+/// Jacobians): a journal touching lobe 2 (minimum gap 0.95 h_con) and one outside the band.
+fn bench_contact(prm: &BearingParams) {
+    let th = 270f64.to_radians();
+    let at = |r: f64| JournalState::at(r * th.cos(), r * th.sin(), 0.0);
+    // The eccentricity with a minimum gap of 0.95 h_con (bisection).
+    let (mut lo, mut hi) = (0.0, 3.0 * prm.c_m);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        if fmu_airfilm::geometry::min_gap_m(prm, &at(mid)) > 0.95 * prm.h_con_rel * prm.c_m {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    for (what, r) in [("light contact, h_min = 0.95 h_con", lo), ("outside the band", 0.9 * prm.c_m)] {
+        let j = at(r);
+        let mut t_rep = Vec::new();
+        for _ in 0..31 {
+            let t = Instant::now();
+            for _ in 0..1000 {
+                std::hint::black_box(fmu_airfilm::contact::contact_force_at_n(prm, std::hint::black_box(&j)));
+            }
+            t_rep.push(t.elapsed().as_secs_f64() / 1000.0);
+        }
+        let f = fmu_airfilm::contact::contact_force_at_n(prm, &j);
+        println!(
+            "contact force, {what} (|F| = {:.2} N): median {:.3} us per call",
+            f[0].hypot(f[1]),
+            median(t_rep) * 1e6
+        );
+    }
+}
+
 fn main() {
     let prm = BearingParams::paper();
+    bench_contact(&prm);
     let om = 2.0 * PI * 1000.0;
     let j = JournalState::at(0.0, -0.5 * prm.c_m, om);
     let mut t_steady = Vec::new();

@@ -10,10 +10,11 @@
 //! and the rotor evaluates the same law on its own (rotor.fmu, `contact = true`), so the result
 //! must not depend on the film's mesh. In a band the gap is sinusoid plus linear and convex
 //! (h < h_con < C forces cos(theta - theta_d) > 0), so each band is one interval around a local
-//! minimum of h; its ends are found by bisection and the smooth integrand inside by composite
-//! Gauss quadrature.
+//! minimum of h; its ends are found by safeguarded Newton and the smooth integrand inside by
+//! composite Gauss quadrature. The minimum itself has a closed form (the rotor evaluates this
+//! inside its Newton iterations and finite-difference Jacobians, so it must be cheap).
 
-use crate::geometry::{gap_m, min_gap_m};
+use crate::geometry::gap_m;
 use crate::mesh::{GAUSS3_W, GAUSS3_X};
 use crate::params::BearingParams;
 use crate::JournalState;
@@ -33,18 +34,40 @@ pub fn contact_force_n(p: &BearingParams, j: &JournalState, h_min_m: f64) -> [f6
     let mut f = [0.0, 0.0];
     for k in 0..p.n_blocks() {
         for (a, b) in contact_bands(p, k, j, h_con).into_iter().flatten() {
-            let w_panel = (b - a) / BAND_PANELS as f64;
-            for panel in 0..BAND_PANELS {
-                for q in 0..3 {
-                    let s = a + (panel as f64 + 0.5 * (1.0 + GAUSS3_X[q])) * w_panel;
-                    let pen = h_con - gap_m(p, k, s, j);
-                    if pen > 0.0 {
-                        let theta = p.block_start_rad(k) + s + p.alpha_rad;
-                        let w = 0.5 * w_panel * GAUSS3_W[q] * p.c_con_n_per_m3 * pen;
-                        f[0] -= w * theta.cos();
-                        f[1] -= w * theta.sin();
-                    }
-                }
+            let fb = band_force(p, k, j, h_con, a, b);
+            f[0] += fb[0];
+            f[1] += fb[1];
+        }
+    }
+    f
+}
+
+/// Contact force on the journal (N) at journal state `j`, for callers that do not have the
+/// minimum gap at hand (the rotor model evaluates the contact inside its own Newton iterations).
+/// The gap is at least C - |d| (the step term is >= 0), so a journal inside that circle costs
+/// one hypot.
+pub fn contact_force_at_n(p: &BearingParams, j: &JournalState) -> [f64; 2] {
+    let h_con = p.h_con_rel * p.c_m;
+    if p.c_m - j.dx_m.hypot(j.dy_m) >= h_con {
+        return [0.0, 0.0];
+    }
+    // The band search finds "no contact" itself; the minimum gap is not needed.
+    contact_force_n(p, j, f64::NEG_INFINITY)
+}
+
+/// Contact force (N) of the band [a, b] of block `k`: composite 3-point Gauss.
+fn band_force(p: &BearingParams, k: usize, j: &JournalState, h_con: f64, a: f64, b: f64) -> [f64; 2] {
+    let mut f = [0.0, 0.0];
+    let w_panel = (b - a) / BAND_PANELS as f64;
+    for panel in 0..BAND_PANELS {
+        for q in 0..3 {
+            let s = a + (panel as f64 + 0.5 * (1.0 + GAUSS3_X[q])) * w_panel;
+            let pen = h_con - gap_m(p, k, s, j);
+            if pen > 0.0 {
+                let theta = p.block_start_rad(k) + s + p.alpha_rad;
+                let w = 0.5 * w_panel * GAUSS3_W[q] * p.c_con_n_per_m3 * pen;
+                f[0] -= w * theta.cos();
+                f[1] -= w * theta.sin();
             }
         }
     }
@@ -52,10 +75,70 @@ pub fn contact_force_n(p: &BearingParams, j: &JournalState, h_min_m: f64) -> [f6
     [f[0] * scale, f[1] * scale]
 }
 
-/// The intervals [a, b] of block-local angle where h < h_con in block `k` (at most two: one
-/// per local minimum of the samples; a plain bore's band may wrap around s = 0 and then comes
-/// as two pieces, one at each end).
-fn contact_bands(
+/// The intervals [a, b] of block-local angle where h < h_con in block `k` (at most two pieces:
+/// a plain bore's band may wrap around s = 0). Closed forms for a plain bore and for lobes
+/// narrower than pi (every real bearing); sampling otherwise.
+fn contact_bands(p: &BearingParams, k: usize, j: &JournalState, h_con: f64) -> [Option<(f64, f64)>; 2] {
+    if p.plain_bore {
+        plain_bore_bands(p, j, h_con)
+    } else if p.phi_t_rad < std::f64::consts::PI {
+        [lobe_band(p, k, j, h_con), None]
+    } else {
+        sampled_bands(p, k, j, h_con)
+    }
+}
+
+/// Plain bore: h = C - |d| cos(theta - theta_d), so the band is |theta - theta_d| < acos((C - h_con) / |d|).
+fn plain_bore_bands(p: &BearingParams, j: &JournalState, h_con: f64) -> [Option<(f64, f64)>; 2] {
+    let tau = 2.0 * std::f64::consts::PI;
+    let r = j.dx_m.hypot(j.dy_m);
+    let q = (p.c_m - h_con) / r;
+    if !(q < 1.0) {
+        return [None, None];
+    }
+    let half = q.max(-1.0).acos();
+    let centre = (j.dy_m.atan2(j.dx_m) - p.alpha_rad).rem_euclid(tau);
+    let (a, b) = (centre - half, centre + half);
+    if a < 0.0 {
+        [Some((0.0, b.min(tau))), Some((a + tau, tau))]
+    } else if b > tau {
+        [Some((a, tau)), Some((0.0, b - tau))]
+    } else {
+        [Some((a, b)), None]
+    }
+}
+
+/// One lobe (phi_t < pi): h = C + dH (1 - s/phi_t) - |d| cos(psi), psi = theta - theta_d. Its only
+/// interior minimum is at sin(psi) = dH / (phi_t |d|) with cos(psi) > 0, so the lobe's minimum is
+/// there or at an end; the band around it ends where h = h_con (safeguarded Newton).
+fn lobe_band(p: &BearingParams, k: usize, j: &JournalState, h_con: f64) -> Option<(f64, f64)> {
+    let span = p.phi_t_rad;
+    let r = j.dx_m.hypot(j.dy_m);
+    let mut s_min = span; // h falls along the lobe unless the journal pulls the minimum inward
+    let q = p.dh_m / (span * r);
+    if q < 1.0 {
+        let theta_k = p.block_start_rad(k) + p.alpha_rad;
+        let s_star = (j.dy_m.atan2(j.dx_m) + q.asin() - theta_k).rem_euclid(2.0 * std::f64::consts::PI);
+        if s_star <= span {
+            s_min = s_star;
+        }
+    }
+    for s in [0.0, span] {
+        if gap_m(p, k, s, j) < gap_m(p, k, s_min, j) {
+            s_min = s;
+        }
+    }
+    if gap_m(p, k, s_min, j) >= h_con {
+        return None;
+    }
+    let a = if gap_m(p, k, 0.0, j) < h_con { 0.0 } else { crossing(p, k, j, h_con, 0.0, s_min) };
+    let b = if gap_m(p, k, span, j) < h_con { span } else { crossing(p, k, j, h_con, span, s_min) };
+    Some((a, b))
+}
+
+/// Sampling for blocks wider than pi (one lobe wider than a half circle): one band per local
+/// minimum of 64 samples.
+fn sampled_bands(
     p: &BearingParams,
     k: usize,
     j: &JournalState,
@@ -134,43 +217,41 @@ fn refine_minimum(p: &BearingParams, k: usize, j: &JournalState, s0: f64, span: 
     }
 }
 
-/// The angle between `s_out` (h >= h_con) and `s_in` (h < h_con) where h = h_con (bisection
-/// to ~1e-15 of the bracket; h is monotone there, so this is the band's end).
-fn crossing(
-    p: &BearingParams,
-    k: usize,
-    j: &JournalState,
-    h_con: f64,
-    s_out: f64,
-    s_in: f64,
-) -> f64 {
+/// The angle between `s_out` (h >= h_con) and `s_in` (h < h_con) where h = h_con. Between them
+/// the points with h < h_con form one interval ending at `s_in` (they lie where h is convex), so
+/// the crossing is unique. Newton, safeguarded by bisection when a step leaves the bracket.
+fn crossing(p: &BearingParams, k: usize, j: &JournalState, h_con: f64, s_out: f64, s_in: f64) -> f64 {
+    let dstep = if p.plain_bore { 0.0 } else { -p.dh_m / p.phi_t_rad };
     let (mut out, mut inside) = (s_out, s_in);
-    for _ in 0..50 {
-        let mid = 0.5 * (out + inside);
-        if gap_m(p, k, mid, j) < h_con {
-            inside = mid;
+    let mut s = s_out;
+    for _ in 0..100 {
+        let theta = p.block_start_rad(k) + s + p.alpha_rad;
+        let (sin, cos) = theta.sin_cos();
+        let f = gap_m(p, k, s, j) - h_con;
+        if f >= 0.0 {
+            out = s;
         } else {
-            out = mid;
+            inside = s;
         }
+        let slope = j.dx_m * sin - j.dy_m * cos + dstep;
+        let newton = s - f / slope;
+        let next = if newton.is_finite() && (newton - out) * (newton - inside) < 0.0 {
+            newton
+        } else {
+            0.5 * (out + inside)
+        };
+        if (next - s).abs() <= 1e-15 * (1.0 + s.abs()) || (out - inside).abs() <= 1e-15 {
+            return next;
+        }
+        s = next;
     }
-    0.5 * (out + inside)
-}
-
-/// Contact force on the journal (N) at journal state `j`, for callers that do not have the
-/// minimum gap at hand (the rotor model evaluates the contact inside its own Newton iterations).
-/// The gap is at least C - |d| (the step term is >= 0), so a journal inside that circle costs
-/// one hypot instead of the minimum-gap search.
-pub fn contact_force_at_n(p: &BearingParams, j: &JournalState) -> [f64; 2] {
-    let h_con = p.h_con_rel * p.c_m;
-    if p.c_m - j.dx_m.hypot(j.dy_m) >= h_con || p.c_con_n_per_m3 == 0.0 {
-        return [0.0, 0.0];
-    }
-    contact_force_n(p, j, min_gap_m(p, j))
+    s
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::geometry::min_gap_m;
 
     #[test]
     fn shortcut_agrees_with_the_full_evaluation_inside_and_beyond_the_bound() {
@@ -271,5 +352,40 @@ mod tests {
             fr[0] < -1.0 && ((f[0] - fr[0]) / fr[0]).abs() < 1e-6,
             "{f:?} vs {fr:?}"
         );
+    }
+
+    #[test]
+    fn closed_form_bands_agree_with_sampled_bands() {
+        // Journals all around the bore at eccentricities from the contact edge to deep
+        // penetration, lobed (with and without a step) and plain: the closed forms give the bands
+        // that sampling plus bisection finds.
+        let lobed = BearingParams::paper();
+        let no_step = BearingParams { dh_m: 0.0, ..BearingParams::paper() };
+        let plain = BearingParams::plain_bore();
+        let mut n_contact = 0;
+        for p in [&lobed, &no_step, &plain] {
+            let h_con = p.h_con_rel * p.c_m;
+            for i in 0..360 {
+                let th = (i as f64 + 0.37) * std::f64::consts::PI / 180.0;
+                for r_rel in [0.965, 0.99, 1.0, 1.05, 1.5, 2.5] {
+                    let r = r_rel * p.c_m;
+                    let j = JournalState::at(r * th.cos(), r * th.sin(), 0.0);
+                    let fast = contact_force_at_n(p, &j);
+                    let mut slow = [0.0, 0.0];
+                    for k in 0..p.n_blocks() {
+                        for (a, b) in sampled_bands(p, k, &j, h_con).into_iter().flatten() {
+                            let f = band_force(p, k, &j, h_con, a, b);
+                            slow[0] += f[0];
+                            slow[1] += f[1];
+                        }
+                    }
+                    let mag = slow[0].hypot(slow[1]);
+                    n_contact += usize::from(mag > 0.0);
+                    let err = (fast[0] - slow[0]).hypot(fast[1] - slow[1]);
+                    assert!(err <= 1e-9 * mag + 1e-12, "theta {th}, r {r_rel} C: {fast:?} vs {slow:?}");
+                }
+            }
+        }
+        assert!(n_contact > 2000, "only {n_contact} states in contact");
     }
 }

@@ -104,6 +104,23 @@ def test_simulate_rotor_run_up_speed():
     assert res["y_JC"][-1] < 0.0  # no film forces connected: the rotor falls under gravity
 
 
+def test_rotor_with_contact_is_held_by_its_rings():
+    # No film forces connected: with contact = true the rotor's own contact law catches the
+    # journals in the bore (C = 20 um, dH = 40 um: at most C + dH from the ring centre, less the
+    # tiny penetration); without it they fall through (~0.5 g t^2 = 2 mm in 20 ms).
+    out = ["dx_C", "dy_C", "dx_T", "dy_T", "F_contact_C", "F_contact_T"]
+    kw = dict(stop_time=0.02, step_size=1e-5, output_interval=1e-4, output=out)
+    held = simulate_fmu(fmu_path("rotor"), start_values={"contact": True}, **kw)
+    free = simulate_fmu(fmu_path("rotor"), **kw)
+    for side in "CT":
+        r = np.hypot(held[f"dx_{side}"], held[f"dy_{side}"])
+        assert r.max() < 60e-6
+        assert r.max() > 19e-6  # it did reach the bore
+        assert held[f"F_contact_{side}"].max() > 1.0
+        assert np.all(free[f"F_contact_{side}"] == 0.0)
+        assert free[f"dy_{side}"][-1] < -1e-3
+
+
 def test_airfilm_input_derivatives_and_state_through_fmu2slave():
     s, vr = _slave("airfilm")
     s.instantiate()
