@@ -108,27 +108,12 @@ fn plain_bore_bands(p: &BearingParams, j: &JournalState, h_con: f64) -> [Option<
     }
 }
 
-/// One lobe (phi_t < pi): h = C + dH (1 - s/phi_t) - |d| cos(psi), psi = theta - theta_d. Its only
-/// interior minimum is at sin(psi) = dH / (phi_t |d|) with cos(psi) > 0, so the lobe's minimum is
-/// there or at an end; the band around it ends where h = h_con (safeguarded Newton).
+/// One lobe (phi_t < pi): the band around the lobe's minimum (closed form, `lobe_minimum`) ends
+/// where h = h_con (safeguarded Newton).
 fn lobe_band(p: &BearingParams, k: usize, j: &JournalState, h_con: f64) -> Option<(f64, f64)> {
     let span = p.phi_t_rad;
-    let r = j.dx_m.hypot(j.dy_m);
-    let mut s_min = span; // h falls along the lobe unless the journal pulls the minimum inward
-    let q = p.dh_m / (span * r);
-    if q < 1.0 {
-        let theta_k = p.block_start_rad(k) + p.alpha_rad;
-        let s_star = (j.dy_m.atan2(j.dx_m) + q.asin() - theta_k).rem_euclid(2.0 * std::f64::consts::PI);
-        if s_star <= span {
-            s_min = s_star;
-        }
-    }
-    for s in [0.0, span] {
-        if gap_m(p, k, s, j) < gap_m(p, k, s_min, j) {
-            s_min = s;
-        }
-    }
-    if gap_m(p, k, s_min, j) >= h_con {
+    let (s_min, h_min) = crate::geometry::lobe_minimum(p, k, j);
+    if h_min >= h_con {
         return None;
     }
     let a = if gap_m(p, k, 0.0, j) < h_con { 0.0 } else { crossing(p, k, j, h_con, 0.0, s_min) };
