@@ -92,8 +92,7 @@ struct RunupArgs {
     #[arg(long)]
     film_tolerance: Option<String>,
     /// Where the journal-ring contact is evaluated: "rotor" (implicitly inside the rotor's
-    /// steps; for run-ups whose journals ride on their rings) or "film" (with the film force)
-    /// [default: film]
+    /// steps) or "film" (with the film force, extrapolated over each macro step) [default: rotor]
     #[arg(long)]
     contact: Option<String>,
     /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
