@@ -25,13 +25,19 @@ fn bench_contact(prm: &BearingParams) {
             hi = mid;
         }
     }
-    for (what, r) in [("light contact, h_min = 0.95 h_con", lo), ("outside the band", 0.9 * prm.c_m)] {
+    for (what, r) in [
+        ("light contact, h_min = 0.95 h_con", lo),
+        ("outside the band", 0.9 * prm.c_m),
+    ] {
         let j = at(r);
         let mut t_rep = Vec::new();
         for _ in 0..31 {
             let t = Instant::now();
             for _ in 0..1000 {
-                std::hint::black_box(fmu_airfilm::contact::contact_force_at_n(prm, std::hint::black_box(&j)));
+                std::hint::black_box(fmu_airfilm::contact::contact_force_at_n(
+                    prm,
+                    std::hint::black_box(&j),
+                ));
             }
             t_rep.push(t.elapsed().as_secs_f64() / 1000.0);
         }

@@ -56,7 +56,14 @@ pub fn contact_force_at_n(p: &BearingParams, j: &JournalState) -> [f64; 2] {
 }
 
 /// Contact force (N) of the band [a, b] of block `k`: composite 3-point Gauss.
-fn band_force(p: &BearingParams, k: usize, j: &JournalState, h_con: f64, a: f64, b: f64) -> [f64; 2] {
+fn band_force(
+    p: &BearingParams,
+    k: usize,
+    j: &JournalState,
+    h_con: f64,
+    a: f64,
+    b: f64,
+) -> [f64; 2] {
     let mut f = [0.0, 0.0];
     let w_panel = (b - a) / BAND_PANELS as f64;
     for panel in 0..BAND_PANELS {
@@ -78,7 +85,12 @@ fn band_force(p: &BearingParams, k: usize, j: &JournalState, h_con: f64, a: f64,
 /// The intervals [a, b] of block-local angle where h < h_con in block `k` (at most two pieces:
 /// a plain bore's band may wrap around s = 0). Closed forms for a plain bore and for lobes
 /// narrower than pi (every real bearing); sampling otherwise.
-fn contact_bands(p: &BearingParams, k: usize, j: &JournalState, h_con: f64) -> [Option<(f64, f64)>; 2] {
+fn contact_bands(
+    p: &BearingParams,
+    k: usize,
+    j: &JournalState,
+    h_con: f64,
+) -> [Option<(f64, f64)>; 2] {
     if p.plain_bore {
         plain_bore_bands(p, j, h_con)
     } else if p.phi_t_rad < std::f64::consts::PI {
@@ -116,8 +128,16 @@ fn lobe_band(p: &BearingParams, k: usize, j: &JournalState, h_con: f64) -> Optio
     if h_min >= h_con {
         return None;
     }
-    let a = if gap_m(p, k, 0.0, j) < h_con { 0.0 } else { crossing(p, k, j, h_con, 0.0, s_min) };
-    let b = if gap_m(p, k, span, j) < h_con { span } else { crossing(p, k, j, h_con, span, s_min) };
+    let a = if gap_m(p, k, 0.0, j) < h_con {
+        0.0
+    } else {
+        crossing(p, k, j, h_con, 0.0, s_min)
+    };
+    let b = if gap_m(p, k, span, j) < h_con {
+        span
+    } else {
+        crossing(p, k, j, h_con, span, s_min)
+    };
     Some((a, b))
 }
 
@@ -205,8 +225,19 @@ fn refine_minimum(p: &BearingParams, k: usize, j: &JournalState, s0: f64, span: 
 /// The angle between `s_out` (h >= h_con) and `s_in` (h < h_con) where h = h_con. Between them
 /// the points with h < h_con form one interval ending at `s_in` (they lie where h is convex), so
 /// the crossing is unique. Newton, safeguarded by bisection when a step leaves the bracket.
-fn crossing(p: &BearingParams, k: usize, j: &JournalState, h_con: f64, s_out: f64, s_in: f64) -> f64 {
-    let dstep = if p.plain_bore { 0.0 } else { -p.dh_m / p.phi_t_rad };
+fn crossing(
+    p: &BearingParams,
+    k: usize,
+    j: &JournalState,
+    h_con: f64,
+    s_out: f64,
+    s_in: f64,
+) -> f64 {
+    let dstep = if p.plain_bore {
+        0.0
+    } else {
+        -p.dh_m / p.phi_t_rad
+    };
     let (mut out, mut inside) = (s_out, s_in);
     let mut s = s_out;
     for _ in 0..100 {
@@ -345,7 +376,10 @@ mod tests {
         // penetration, lobed (with and without a step) and plain: the closed forms give the bands
         // that sampling plus bisection finds.
         let lobed = BearingParams::paper();
-        let no_step = BearingParams { dh_m: 0.0, ..BearingParams::paper() };
+        let no_step = BearingParams {
+            dh_m: 0.0,
+            ..BearingParams::paper()
+        };
         let plain = BearingParams::plain_bore();
         let mut n_contact = 0;
         for p in [&lobed, &no_step, &plain] {
@@ -367,7 +401,10 @@ mod tests {
                     let mag = slow[0].hypot(slow[1]);
                     n_contact += usize::from(mag > 0.0);
                     let err = (fast[0] - slow[0]).hypot(fast[1] - slow[1]);
-                    assert!(err <= 1e-9 * mag + 1e-12, "theta {th}, r {r_rel} C: {fast:?} vs {slow:?}");
+                    assert!(
+                        err <= 1e-9 * mag + 1e-12,
+                        "theta {th}, r {r_rel} C: {fast:?} vs {slow:?}"
+                    );
                 }
             }
         }

@@ -125,7 +125,8 @@ pub fn lobe_minimum(p: &BearingParams, k: usize, j: &JournalState) -> (f64, f64)
     let q = p.dh_m / (span * r);
     if q < 1.0 {
         let theta_k = p.block_start_rad(k) + p.alpha_rad;
-        let s_star = (j.dy_m.atan2(j.dx_m) + q.asin() - theta_k).rem_euclid(2.0 * std::f64::consts::PI);
+        let s_star =
+            (j.dy_m.atan2(j.dx_m) + q.asin() - theta_k).rem_euclid(2.0 * std::f64::consts::PI);
         if s_star <= span {
             let h = gap_m(p, k, s_star, j);
             if h < best.1 {
@@ -186,8 +187,15 @@ mod tests {
         // Journals all around the bore, centred to far beyond contact, lobed with and without a
         // step, the paper's and a two-lobe ring, and a plain bore.
         let paper = BearingParams::paper();
-        let no_step = BearingParams { dh_m: 0.0, ..paper.clone() };
-        let two = BearingParams { n_lobes: 2, phi_t_rad: 150f64.to_radians(), ..paper.clone() };
+        let no_step = BearingParams {
+            dh_m: 0.0,
+            ..paper.clone()
+        };
+        let two = BearingParams {
+            n_lobes: 2,
+            phi_t_rad: 150f64.to_radians(),
+            ..paper.clone()
+        };
         let plain = BearingParams::plain_bore();
         for p in [&paper, &no_step, &two, &plain] {
             for i in 0..90 {
@@ -200,18 +208,29 @@ mod tests {
                     // the exact minimum.
                     let n = 4_000;
                     let dense = (0..p.n_blocks())
-                        .flat_map(|k| (0..=n).map(move |i| (k, p.block_span_rad() * i as f64 / n as f64)))
+                        .flat_map(|k| {
+                            (0..=n).map(move |i| (k, p.block_span_rad() * i as f64 / n as f64))
+                        })
                         .map(|(k, s)| gap_m(p, k, s, &j))
                         .fold(f64::INFINITY, f64::min);
-                    assert!(exact <= dense + 1e-18, "theta {th}, r {r_rel} C: {exact} > {dense}");
+                    assert!(
+                        exact <= dense + 1e-18,
+                        "theta {th}, r {r_rel} C: {exact} > {dense}"
+                    );
                     // Sampling misses the minimum by at most |d| (ds/2)^2 / 2 (the curvature).
                     let ds = p.block_span_rad() / n as f64;
                     let bound = 1.01 * r * (0.5 * ds).powi(2) / 2.0 + 1e-18;
-                    assert!(dense - exact <= bound, "theta {th}, r {r_rel} C: {exact} vs {dense}");
+                    assert!(
+                        dense - exact <= bound,
+                        "theta {th}, r {r_rel} C: {exact} vs {dense}"
+                    );
                     if !p.plain_bore {
                         // The search the closed form replaced (kept for lobes wider than pi).
                         let search = sampled_min_gap_m(p, &j);
-                        assert!((search - exact).abs() < 1e-12 * p.c_m, "{exact} vs search {search}");
+                        assert!(
+                            (search - exact).abs() < 1e-12 * p.c_m,
+                            "{exact} vs search {search}"
+                        );
                     }
                 }
             }
