@@ -105,7 +105,7 @@ fn plain_bore_bands(p: &BearingParams, j: &JournalState, h_con: f64) -> [Option<
     let tau = 2.0 * std::f64::consts::PI;
     let r = j.dx_m.hypot(j.dy_m);
     let q = (p.c_m - h_con) / r;
-    if !(q < 1.0) {
+    if q.is_nan() || q >= 1.0 {
         return [None, None];
     }
     let half = q.max(-1.0).acos();
