@@ -198,11 +198,10 @@ fn compare(
 
 #[test]
 fn airfilm_through_rust_fmi_equals_our_importer() {
-    let theirs = Theirs::new(
-        "airfilm",
-        &[("atol", Value::Real(20.0)), ("n_elem_z", Value::Integer(4))],
-    );
-    let mine = ours("airfilm", &[("atol", 20.0)], &[("n_elem_z", 4)]);
+    // The paper mesh: rust-fmi cannot reach the mesh Integers (their value references are
+    // repeated by Booleans, docs/fmu-guide.md).
+    let theirs = Theirs::new("airfilm", &[("atol", Value::Real(20.0))]);
+    let mine = ours("airfilm", &[("atol", 20.0)], &[]);
     // Circular whirl, eps 0.3 about (0, -eps C / 2), 400 Hz, rotor at 1000 Hz (C = 20 um).
     let (r, w) = (0.3 * 20e-6, TAU * 400.0);
     let orbit = move |t: f64, _: &dyn Fn(&str) -> f64| {
@@ -266,7 +265,7 @@ fn rotor_through_rust_fmi_equals_our_importer() {
         "x_RC",
         "y_RC",
         "spin_angle",
-        "n_steps",
+        "n_newton",
     ];
     let last = compare(&theirs, &mine, 400, 1e-5, &springs, &outs);
     // The rotor sags into the springs and spins up (600 Hz at 3 ms, 800 Hz at 4 ms).
