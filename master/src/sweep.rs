@@ -55,6 +55,10 @@ pub const KEYS: &[(&str, &str, &str, &str)] = &[
     ("fmu_dir", "fmu", "", ""),
 ];
 
+/// Flags that choose how a run-up is computed, not what is computed: runs that differ only in
+/// these share a map panel.
+const NUMERICS: &[&str] = &["contact", "fmu_dir"];
+
 /// A set of (flag, value) pairs.
 type Params = Vec<(String, String)>;
 
@@ -733,14 +737,14 @@ pub fn write_table(records: &[RunRecord], path: &Path) -> Result<(), String> {
     std::fs::write(path, s).map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Run-up classes and their names in the legend.
-const CLASS_NAMES: &[(&str, &str)] = &[
-    ("stable", "stable"),
-    ("path1", "path 1"),
-    ("path2a", "path 2a"),
-    ("path2b", "path 2b"),
-    ("unstable_low_speed", "unstable low"),
-    ("unstable_linear", "lin. unst."),
+/// Run-up classes, their names in the legend and their (shorter) labels in a map cell.
+const CLASS_NAMES: &[(&str, &str, &str)] = &[
+    ("stable", "stable", "stable"),
+    ("path1", "path 1", "path 1"),
+    ("path2a", "path 2a", "path 2a"),
+    ("path2b", "path 2b", "path 2b"),
+    ("unstable_low_speed", "unstable low", "unst.low"),
+    ("unstable_linear", "lin. unst.", "lin. unst."),
 ];
 
 fn legend_color(name: &str) -> Rgb {
@@ -755,11 +759,10 @@ fn cell_style(r: &RunRecord) -> (Rgb, String) {
     let class = r
         .classification
         .as_deref()
-        .and_then(|c| CLASS_NAMES.iter().find(|e| e.0 == c))
-        .map(|e| e.1);
+        .and_then(|c| CLASS_NAMES.iter().find(|e| e.0 == c));
     if r.status == "completed" {
         return match class {
-            Some(name) => (legend_color(name), name.to_string()),
+            Some(&(_, name, label)) => (legend_color(name), label.to_string()),
             None => (Rgb(240, 240, 240), "unclassified".into()),
         };
     }
@@ -769,16 +772,11 @@ fn cell_style(r: &RunRecord) -> (Rgb, String) {
     // stopped by hand after its onset likewise, with "(i)".
     let interrupted = r.status == "interrupted";
     let reached =
-        class.filter(|n| r.onset_time_s.is_some() && !["stable", "lin. unst."].contains(n));
+        class.filter(|e| r.onset_time_s.is_some() && !["stable", "unstable_linear"].contains(&e.0));
     match reached {
-        Some(name) => {
-            let short = if name == "unstable low" {
-                "unst.low"
-            } else {
-                name
-            };
+        Some(&(_, name, label)) => {
             let marker = if interrupted { "i" } else { "f" };
-            (legend_color(name), format!("{short} ({marker})"))
+            (legend_color(name), format!("{label} ({marker})"))
         }
         None if interrupted => (Rgb(225, 225, 225), "interrupted".into()),
         None => (legend_color("failed"), "failed".into()),
@@ -815,17 +813,16 @@ fn fmt_num(v: f64) -> String {
     }
 }
 
-/// Bifurcation maps as the paper's Fig. 17: one panel per combination of the parameters other than
-/// c and d (the (C, dH) cases), c [N/mm] across, d [N s/m] upwards, each cell coloured by the run's
-/// class and labelled with the onset speed. Writes `<stem>.svg` and `<stem>.png` into `dir`.
-pub fn plot_maps(records: &[RunRecord], dir: &Path, stem: &str) -> std::io::Result<Vec<PathBuf>> {
-    // Panel key: every flag except c and d, in KEYS order.
-    let panel_keys: Vec<&str> = KEYS
+/// The map panels: runs grouped by every flag except c, d and the numerical settings (in KEYS
+/// order), in the order of first appearance; and the flags that make up the key. Cells of one
+/// panel may come from runs with different numerics (the table lists them).
+fn map_panels(records: &[RunRecord]) -> (Vec<&'static str>, Vec<(Params, Vec<&RunRecord>)>) {
+    let panel_keys: Vec<&'static str> = KEYS
         .iter()
         .map(|e| e.0)
-        .filter(|k| *k != "c" && *k != "d")
+        .filter(|k| *k != "c" && *k != "d" && !NUMERICS.contains(k))
         .collect();
-    let key_of = |r: &RunRecord| -> Vec<(String, String)> {
+    let key_of = |r: &RunRecord| -> Params {
         panel_keys
             .iter()
             .filter_map(|k| r.args.get(*k).map(|v| (k.to_string(), v.clone())))
@@ -839,6 +836,14 @@ pub fn plot_maps(records: &[RunRecord], dir: &Path, stem: &str) -> std::io::Resu
             None => panels.push((k, vec![r])),
         }
     }
+    (panel_keys, panels)
+}
+
+/// Bifurcation maps as the paper's Fig. 17: one panel per combination of the parameters other than
+/// c and d (the (C, dH) cases), c [N/mm] across, d [N s/m] upwards, each cell coloured by the run's
+/// class and labelled with the onset speed. Writes `<stem>.svg` and `<stem>.png` into `dir`.
+pub fn plot_maps(records: &[RunRecord], dir: &Path, stem: &str) -> std::io::Result<Vec<PathBuf>> {
+    let (panel_keys, panels) = map_panels(records);
     // Title: the panel parameters that differ between panels (all of them if only one panel).
     let varying: Vec<String> = panel_keys
         .iter()
@@ -899,7 +904,11 @@ pub fn plot_maps(records: &[RunRecord], dir: &Path, stem: &str) -> std::io::Resu
         };
         let (gx, gy) = (ox + ml, oy + mt);
         let (gw, gh) = (cell_w * cs.len() as f64, cell_h * ds.len() as f64);
-        c.text(gx + 0.5 * gw, oy + 22.0, &title, 14.0, Anchor::Middle);
+        // Centred over the grid, but kept inside the panel when the grid is narrower than the
+        // title (the canvas font is ~0.85 em wide per character).
+        let half_title = 0.5 * 0.85 * 14.0 * title.chars().count() as f64;
+        let tx = (gx + 0.5 * gw).max(ox + half_title + 4.0);
+        c.text(tx, oy + 22.0, &title, 14.0, Anchor::Middle);
         for r in rs {
             let (Some(cv), Some(dv)) = (r.param("c"), r.param("d")) else {
                 continue;
@@ -1049,6 +1058,42 @@ mod tests {
             cell_style(&rec("interrupted", Some("stable"), None)).1,
             "interrupted"
         );
+    }
+
+    #[test]
+    fn runs_that_differ_only_in_numerics_share_a_panel() {
+        let rec = |c: &str, contact: Option<&str>, clearance: &str| {
+            let mut args: BTreeMap<String, String> =
+                [("clearance", clearance), ("c", c), ("d", "50")]
+                    .into_iter()
+                    .map(|(k, v)| (k.to_string(), v.to_string()))
+                    .collect();
+            if let Some(side) = contact {
+                args.insert("contact".into(), side.into());
+            }
+            RunRecord {
+                name: format!("C{clearance}_c{c}"),
+                index: 0,
+                args,
+                status: "completed".into(),
+                classification: Some("stable".into()),
+                onset_time_s: None,
+                onset_speed_hz: None,
+                max_eps_c: None,
+                max_eps_t: None,
+                wall_time_s: None,
+                settings: serde_json::Value::Null,
+            }
+        };
+        let records = [
+            rec("500", None, "30"),
+            rec("1000", Some("rotor"), "30"),
+            rec("500", Some("film"), "20"),
+        ];
+        let (keys, panels) = map_panels(&records);
+        assert!(!keys.contains(&"contact"));
+        let sizes: Vec<usize> = panels.iter().map(|p| p.1.len()).collect();
+        assert_eq!(sizes, [2, 1], "{panels:?}");
     }
 
     #[test]
