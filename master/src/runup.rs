@@ -320,8 +320,10 @@ pub const DEFAULT_MACRO_STEP_US: f64 = 20.0;
 /// makes a run-up 1.5x faster (docs/convergence.md).
 pub const DEFAULT_FILM_TOLERANCE: [f64; 2] = [1e-3, 100.0];
 /// Default side of the contact evaluation: the rotor (implicit). Where no journal touches its ring
-/// (the Section 3 run-ups) both sides give bit-identical series; where one does, the rotor side
-/// needs no macro-step refinement and never crosses the contact limit (docs/convergence.md).
+/// (the Section 3 run-ups) both sides compute the same thing, the contact force being zero (path 1
+/// and 2b: the same onsets to the last digit); where one does, the rotor side needs no macro-step
+/// refinement for the contact and let no journal cross the contact limit in the Section 4 study
+/// (docs/convergence.md).
 pub const DEFAULT_CONTACT: ContactSide = ContactSide::Rotor;
 /// Default macro-step control: [rtol, atol in N] of the extrapolated bearing forces.
 pub const DEFAULT_STEP_CONTROL: [f64; 2] = [0.1, 1.0];
