@@ -70,6 +70,17 @@ def run_one(airring: str, out: str, run: dict, fmu_dir: str | None, cwd: str | N
             "host": os.uname().nodename}
 
 
+def parse_shard(text: str) -> tuple[int, int]:
+    """`k/n` with 1 <= k <= n, as `airring sweep --shard`."""
+    try:
+        k, n = (int(x) for x in text.split("/"))
+    except ValueError:
+        raise SystemExit(f"--shard expects k/n with 1 <= k <= n, found '{text}'")
+    if not 1 <= k <= n:
+        raise SystemExit(f"--shard expects k/n with 1 <= k <= n, found '{text}'")
+    return k, n
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("study", help="study file (TOML) as for `airring sweep`")
@@ -81,6 +92,8 @@ def main(argv=None) -> int:
     ap.add_argument("--fmu-dir", help="folder with rotor.fmu and airfilm.fmu (default: airring's)")
     ap.add_argument("--shard", help="only the runs of shard k/n (as `airring sweep --shard`)")
     a = ap.parse_args(argv)
+    if a.shard:
+        parse_shard(a.shard)  # a bad --shard stops here, before any cluster starts
 
     from dask.distributed import Client, LocalCluster, as_completed
 
@@ -90,13 +103,15 @@ def main(argv=None) -> int:
     (out / "study.toml").write_text(pathlib.Path(a.study).read_text())
     runs = plan(airring, a.study)
     if a.shard:
-        k, n = (int(x) for x in a.shard.split("/"))
+        k, n = parse_shard(a.shard)
         runs = [r for r in runs if r["index"] % n == k - 1]
     todo = [r for r in runs if not is_done(out / "runs" / r["name"], r["args"])]
     print(f"dask sweep: {len(runs)} runs, {len(runs) - len(todo)} already completed, {len(todo)} to run",
           file=sys.stderr)
     fmu_dir = str(pathlib.Path(a.fmu_dir).resolve()) if a.fmu_dir else None
-    cwd = os.getcwd()
+    # Workers start the run-ups here (relative fmu_dir paths in the study resolve against it) on
+    # a LocalCluster; remote workers keep their own working folder unless it exists for them.
+    cwd = os.getcwd() if not a.scheduler else None
 
     cluster = None
     if a.scheduler:
@@ -109,8 +124,26 @@ def main(argv=None) -> int:
     try:
         futures = [client.submit(run_one, airring, str(out), r, fmu_dir, cwd, key=f"runup-{r['name']}", pure=False)
                    for r in todo]
+        names = {f.key: r["name"] for f, r in zip(futures, todo)}
         for i, f in enumerate(as_completed(futures), 1):
-            res = f.result()
+            try:
+                res = f.result()
+            except Exception as e:  # a worker-side failure (airring missing, folder not shared, ...)
+                # Record it as the run's failure and go on: the other runs and the merge still count.
+                name = names[f.key]
+                run_dir = out / "runs" / name
+                try:
+                    run_dir.mkdir(parents=True, exist_ok=True)
+                    (run_dir / "summary.json").write_text(json.dumps({
+                        "status": "failed", "error": f"the Dask task failed: {e!r}",
+                        "classification": None, "onset_time_s": None, "max_eps_C": None,
+                        "max_eps_T": None, "wall_time_s": None,
+                    }, indent=2))
+                except OSError:
+                    pass
+                res = {"name": name, "status": "failed", "classification": None,
+                       "onset_speed_hz": None, "wall_time_s": None, "host": "?"}
+                print(f"dask sweep: {name}: task failed: {e!r}", file=sys.stderr)
             if res["status"] != "completed":
                 failed.append(res["name"])
             print(f"[{i}/{len(todo)}] {res['name']} on {res['host']}: {res['status']}, {res['classification']}, "

@@ -107,6 +107,7 @@ fn impedance_matches_transient_finite_differences() {
     let lin = FilmLinearization::from_steady(&prm, j0, st).unwrap();
     let a = 0.01 * prm.c_m;
     let mut worst = 0.0f64;
+    let mut worst_own = 0.0f64;
     for f_hz in [300.0, 1000.0, 2500.0] {
         let nu = TAU * f_hz;
         let (k, d) = lin.impedance(nu).unwrap();
@@ -121,8 +122,12 @@ fn impedance_matches_transient_finite_differences() {
                 // Central difference of the +-a runs cancels the even (quadratic) terms.
                 let z_re = -0.5 * (plus[i].0 + minus[i].0);
                 let z_im = -0.5 * (plus[i].1 + minus[i].1);
-                let e = (z_re - k[i][dir]).hypot(z_im - nu * d[i][dir]) / zmax;
+                let diff = (z_re - k[i][dir]).hypot(z_im - nu * d[i][dir]);
+                let e = diff / zmax;
                 worst = worst.max(e);
+                // Each entry against its own size too: the cross-coupling terms are 10x smaller
+                // than the direct ones and must be right in their own right.
+                worst_own = worst_own.max(diff / k[i][dir].hypot(nu * d[i][dir]));
                 println!(
                     "f = {f_hz:6.0} Hz Z[{i}][{dir}]: linear K = {:9.1} N/mm, nu D = {:9.1} N/mm | transient {:9.1}, {:9.1} | rel. err {:.2e}",
                     k[i][dir] * 1e-3,
@@ -134,6 +139,15 @@ fn impedance_matches_transient_finite_differences() {
             }
         }
     }
-    println!("worst relative impedance difference: {worst:.2e}");
-    assert!(worst < 0.03, "linear vs transient impedance: {worst}");
+    println!(
+        "worst relative impedance difference: {worst:.2e} of max |Z|, {worst_own:.2e} of the entry's own |Z_ij|"
+    );
+    // Achieved: 1.5e-4 of max |Z| (docs/stability.md); the bound leaves 10x for platform
+    // differences in the transient runs' error control, and catches any real defect (a missing
+    // term of the linearization is a difference of a few percent).
+    assert!(worst < 2e-3, "linear vs transient impedance: {worst}");
+    assert!(
+        worst_own < 1e-2,
+        "linear vs transient impedance, per entry: {worst_own}"
+    );
 }

@@ -175,11 +175,9 @@ pub struct Mode {
     pub shape: ModeShape,
 }
 
-/// Damped eigenmodes (one per complex-conjugate pair, Im > 0), sorted by frequency.
-/// Whirl direction: a point moving as x = Re(X e^{i nu t}), y = Re(Y e^{i nu t}) turns
-/// counter-clockwise (about +z, the spin sense: forward) iff Im(conj(X) Y) < 0 (X = 1, Y = -i
-/// is x = cos, y = sin). The sign is summed over the four bearing points.
-pub fn modes(lm: &LateralMatrices) -> Result<Vec<Mode>, RotorError> {
+/// The first-order state matrix A (16 x 16, row-major) of the lateral system, x' = A x with
+/// x = (q, q'): A = [[0, I], [-M^-1 K, -M^-1 (D + G)]].
+pub fn state_matrix(lm: &LateralMatrices) -> Result<Vec<f64>, RotorError> {
     let n = 16;
     // A = [[0, I], [-M^-1 K, -M^-1 (D + G)]]
     let mut minv_k = vec![0.0; 64];
@@ -204,6 +202,27 @@ pub fn modes(lm: &LateralMatrices) -> Result<Vec<Mode>, RotorError> {
             a[(8 + i) * n + 8 + j] = -minv_c[i * 8 + j];
         }
     }
+    Ok(a)
+}
+
+/// The real eigenvalues [1/s] of the lateral system: its non-oscillating motions, which `modes`
+/// does not list (overdamped modes when < 0; a static divergence when one is > 0).
+pub fn real_eigenvalues(lm: &LateralMatrices) -> Result<Vec<f64>, RotorError> {
+    let a = state_matrix(lm)?;
+    Ok(eigen::eigenvalues(16, &a)?
+        .into_iter()
+        .filter(|l| l.im == 0.0)
+        .map(|l| l.re)
+        .collect())
+}
+
+/// Damped eigenmodes (one per complex-conjugate pair, Im > 0), sorted by frequency.
+/// Whirl direction: a point moving as x = Re(X e^{i nu t}), y = Re(Y e^{i nu t}) turns
+/// counter-clockwise (about +z, the spin sense: forward) iff Im(conj(X) Y) < 0 (X = 1, Y = -i
+/// is x = cos, y = sin). The sign is summed over the four bearing points.
+pub fn modes(lm: &LateralMatrices) -> Result<Vec<Mode>, RotorError> {
+    let n = 16;
+    let a = state_matrix(lm)?;
     let ev = eigen::eigenvalues(n, &a)?;
     let mut out = Vec::new();
     for lam in ev.into_iter().filter(|l| l.im > 0.0) {

@@ -89,7 +89,9 @@ pub struct RotorFmu {
     rotor: Rotor,
 }
 
-fn params_from(s: &Store) -> RotorParams {
+/// The rotor parameters from the FMU's variable values (also used by the master's linear
+/// stability analysis, which must read parameters exactly as the FMU does).
+pub fn params_from(s: &Store) -> RotorParams {
     let mut p = RotorParams::paper();
     p.m_kg = s.real(vr::M);
     p.j_t_kg_m2 = s.real(vr::J_T);

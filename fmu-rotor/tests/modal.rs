@@ -154,3 +154,37 @@ fn linearization_matches_analytic_matrices() {
     let dmax = lm.d.iter().flatten().fold(0.0f64, |a, b| a.max(b.abs()));
     assert!(dmax < 1e-6, "no damping in this case: {dmax}");
 }
+
+/// `real_eigenvalues` completes `modes`: every eigenvalue is either an oscillating mode (with its
+/// conjugate) or real, and a negative film stiffness (a statically unstable bearing) shows as a
+/// positive real eigenvalue, which `modes` alone would never reveal.
+#[test]
+fn real_eigenvalues_complete_the_modes_and_reveal_a_divergence() {
+    let (p, films) = section_2_3();
+    let lm = lateral_matrices(&p, 2.0 * PI * 1000.0, &films);
+    assert_eq!(modes(&lm).unwrap().len(), 8);
+    assert!(
+        real_eigenvalues(&lm).unwrap().is_empty(),
+        "undamped: all oscillate"
+    );
+
+    // Films pushing the journal away from the centre, no damping, no spin: a conservative system
+    // with negative-stiffness directions, so its real eigenvalues come in pairs +-sqrt(mu)
+    // (x and y stiffnesses differ, so no eigenvalue is double).
+    let neg = [FilmCoefficients {
+        k_n_m: [[-1e5, 0.0], [0.0, -2e5]],
+        d_n_s_m: [[0.0; 2]; 2],
+    }; 2];
+    let lm = lateral_matrices(&p, 0.0, &neg);
+    let osc = modes(&lm).unwrap().len();
+    let mut real = real_eigenvalues(&lm).unwrap();
+    assert_eq!(2 * osc + real.len(), 16, "{osc} modes, real {real:?}");
+    real.sort_by(f64::total_cmp);
+    assert!(real.last().copied().unwrap() > 1.0, "divergence: {real:?}");
+    for (a, b) in real.iter().zip(real.iter().rev()) {
+        assert!(
+            (a + b).abs() < 1e-6 * a.abs().max(1.0),
+            "pairs +-: {real:?}"
+        );
+    }
+}

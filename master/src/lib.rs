@@ -3,6 +3,7 @@
 
 pub mod analysis;
 pub mod cosim;
+pub mod fmu_params;
 pub mod modal;
 pub mod orbit;
 pub mod output;

@@ -98,6 +98,11 @@ struct RunupArgs {
     /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
     #[arg(long)]
     fmu_dir: Option<PathBuf>,
+    /// Any other FMU parameter, repeatable: PREFIX.NAME=VALUE with PREFIX rotor, film (both
+    /// films), film_C or film_T; VALUE a number (SI) or "number unit" (e.g. --set film.eta=1.9e-5,
+    /// --set "rotor.c_C=1500 N/mm"). Replaces a value the run-up would set itself.
+    #[arg(long = "set", value_name = "FMU.NAME=VALUE")]
+    set: Vec<String>,
 }
 
 #[derive(Subcommand)]
@@ -147,6 +152,16 @@ enum Command {
         /// Print the run-ups (name, index, flags, `airring` arguments) as JSON lines and exit.
         #[arg(long)]
         list: bool,
+        /// Predict the map with the linear stability analysis first (study_linear.csv,
+        /// bifurcation_map_linear.*, in seconds), then run the run-ups, those predicted to take
+        /// longest (unstable, earliest onset) first.
+        #[arg(long)]
+        predict_first: bool,
+        /// Every run-up writes a checkpoint every this many seconds of simulated time, so a killed
+        /// one loses at most that much (interrupted ones checkpoint when they stop in any case,
+        /// and the next sweep resumes them).
+        #[arg(long)]
+        checkpoint_every: Option<f64>,
         /// Predict the map with the linear stability analysis instead of running the run-ups
         /// (threshold speed and visible onset per point; study_linear.csv, bifurcation_map_linear.*).
         #[arg(long)]
@@ -281,6 +296,7 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     s.disturbance_seed = a.disturbance_seed.unwrap_or(s.disturbance_seed);
     s.jacobi = a.jacobi;
     s.serial_films = a.serial_films;
+    s.fmu_parameters = master::fmu_params::parse_set_flags(&a.set)?;
     if let Some(ft) = &a.film_tolerance {
         s.film_tolerance = Some(master::runup::parse_film_tolerance(ft)?);
     }
@@ -317,10 +333,14 @@ fn stop_flag() -> Arc<AtomicBool> {
     let f = flag.clone();
     let _ = ctrlc::set_handler(move || {
         if f.swap(true, Ordering::Relaxed) {
-            eprintln!("\nsecond Ctrl-C: exiting at once");
+            eprintln!("\nsecond stop signal: exiting at once");
             std::process::exit(130);
         }
-        eprintln!("\nCtrl-C: stopping at the next macro step (checkpoint and summary are written)");
+        // Ctrl-C, and (ctrlc's `termination` feature) SIGTERM and SIGHUP: a batch system's time
+        // limit stops a run the same way, leaving a checkpoint to resume from.
+        eprintln!(
+            "\nstop signal: stopping at the next macro step (checkpoint and summary are written)"
+        );
     });
     flag
 }
@@ -399,26 +419,50 @@ fn linear_sweep_command(
     Ok(ExitCode::SUCCESS)
 }
 
-fn sweep_command(
-    study_path: &Path,
+/// The flags of `airring sweep` (run-up mode).
+struct SweepFlags<'a> {
     out: Option<PathBuf>,
     jobs: Option<usize>,
-    shard: Option<&str>,
+    shard: Option<&'a str>,
     quiet: bool,
     list: bool,
-) -> Result<ExitCode, String> {
+    checkpoint_every_s: Option<f64>,
+    /// --predict-first: (speed grid, film mesh) of the linear prediction.
+    predict: Option<(&'a str, Option<&'a str>)>,
+}
+
+fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
     use master::sweep;
+    let SweepFlags {
+        out,
+        jobs,
+        shard,
+        quiet,
+        list,
+        checkpoint_every_s,
+        predict,
+    } = f;
     let text = std::fs::read_to_string(study_path)
         .map_err(|e| format!("{}: {e}", study_path.display()))?;
-    let study = sweep::Study::parse(&text, study_path)?;
+    let mut study = sweep::Study::parse(&text, study_path)?;
     if list {
         let shard = shard.map(sweep::parse_shard).transpose()?;
         print!("{}", sweep::plan_json_lines(&study, shard));
         return Ok(ExitCode::SUCCESS);
     }
     let jobs = jobs.unwrap_or_else(sweep::default_jobs);
+    let out = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name)));
+    if let Some((speeds, mesh)) = predict {
+        let speeds = master::stability::parse_speeds(speeds)?;
+        let mesh = match mesh {
+            None => master::sweep_linear::DEFAULT_MESH,
+            Some(m) => master::runup::parse_mesh(m, "--linear-mesh")?,
+        };
+        let (preds, _) = master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet)?;
+        master::sweep_linear::longest_first(&mut study, &preds);
+    }
     let opts = sweep::SweepOptions {
-        out: out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name))),
+        out,
         jobs,
         // Two film threads per run-up only while there is a core for each.
         serial_films: 2 * jobs > sweep::cores(),
@@ -426,6 +470,7 @@ fn sweep_command(
         exe: std::env::current_exe().map_err(|e| e.to_string())?,
         quiet,
         stop: stop_flag(),
+        checkpoint_every_s,
     };
     let r = sweep::sweep(&study, &text, &opts)?;
     eprintln!(
@@ -529,14 +574,36 @@ fn main() -> ExitCode {
             shard,
             quiet,
             list,
+            predict_first,
+            checkpoint_every,
             linear,
             speeds,
             linear_mesh,
         } => {
-            if linear {
+            if checkpoint_every.is_some_and(|dt| !(dt.is_finite() && dt > 0.0)) {
+                Err("--checkpoint-every must be a finite number of seconds > 0".into())
+            } else if linear
+                && (jobs.is_some()
+                    || shard.is_some()
+                    || list
+                    || checkpoint_every.is_some()
+                    || predict_first)
+            {
+                Err("--linear predicts the whole study in one process: it takes no --jobs, --shard, --list, --checkpoint-every or --predict-first".into())
+            } else if linear {
                 linear_sweep_command(&study, out, &speeds, linear_mesh.as_deref(), quiet)
             } else {
-                sweep_command(&study, out, jobs, shard.as_deref(), quiet, list)
+                let predict = predict_first.then_some((speeds.as_str(), linear_mesh.as_deref()));
+                let flags = SweepFlags {
+                    out,
+                    jobs,
+                    shard: shard.as_deref(),
+                    quiet,
+                    list,
+                    checkpoint_every_s: checkpoint_every,
+                    predict,
+                };
+                sweep_command(&study, flags)
             }
         }
         Command::SweepMerge { dirs, out } => {

@@ -1,6 +1,7 @@
 //! Run-up presets (paper Section 3) and the system file they generate. The generated file is
 //! written into the run folder, so every run can be repeated with `airring run DIR/system.toml`.
 
+use crate::fmu_params::FmuParameter;
 use std::fmt::Write;
 
 /// Everything an engineer varies in a run-up, in the units they think in (named in the fields).
@@ -43,6 +44,10 @@ pub struct RunupSettings {
     /// steps) or in the air films (its force extrapolated with the film force over each macro
     /// step). See docs/convergence.md.
     pub contact: ContactSide,
+    /// Further FMU parameters (`--set`, study keys with a dot): (PREFIX.NAME, value text), e.g.
+    /// ("film.eta", "1.9e-5 Pa s"); applied after, and in place of, the parameters above
+    /// (`crate::fmu_params`).
+    pub fmu_parameters: Vec<(String, String)>,
 }
 
 /// Which FMU evaluates the mixed-lubrication contact of a run-up.
@@ -98,6 +103,7 @@ impl RunupSettings {
             step_control: Some(DEFAULT_STEP_CONTROL),
             film_tolerance: Some(DEFAULT_FILM_TOLERANCE),
             contact: DEFAULT_CONTACT,
+            fmu_parameters: Vec::new(),
         })
     }
 
@@ -134,14 +140,104 @@ impl RunupSettings {
                 self.n_elem_phi, self.n_elem_z
             ));
         }
+        self.checked_fmu_parameters()?;
         Ok(())
+    }
+
+    /// The extra FMU parameters, checked against the FMUs' variable tables.
+    pub fn checked_fmu_parameters(&self) -> Result<Vec<FmuParameter>, String> {
+        self.fmu_parameters
+            .iter()
+            .map(|(k, v)| FmuParameter::parse(k, v))
+            .collect()
+    }
+
+    /// The rotor's parameters of this run-up as (name, TOML literal), before `fmu_parameters`.
+    fn rotor_parameters(&self) -> Vec<(String, String)> {
+        let (mc, rc, pc) = self.imbalance_c;
+        let (mt, rt, pt) = self.imbalance_t;
+        let (c, d, m) = (self.c_n_per_mm, self.d_n_s_per_m, self.m_r_g);
+        let mut v: Vec<(&str, String)> = vec![
+            ("c_C", format!("\"{c} N/mm\"")),
+            ("c_T", format!("\"{c} N/mm\"")),
+            ("d_C", format!("{d:?}")),
+            ("d_T", format!("{d:?}")),
+            ("m_R_C", format!("\"{m} g\"")),
+            ("m_R_T", format!("\"{m} g\"")),
+            ("f_max", format!("{:?}", self.f_max_hz)),
+            ("t_ramp", format!("{:?}", self.t_ramp_s)),
+            ("m_imb_C", format!("\"{mc} g\"")),
+            ("r_imb_C", format!("\"{rc} mm\"")),
+            ("phase_imb_C", format!("\"{pc} deg\"")),
+            ("m_imb_T", format!("\"{mt} g\"")),
+            ("r_imb_T", format!("\"{rt} mm\"")),
+            ("phase_imb_T", format!("\"{pt} deg\"")),
+            (
+                "disturbance_force",
+                format!("\"{} mN\"", self.disturbance_mn),
+            ),
+            ("disturbance_seed", self.disturbance_seed.to_string()),
+        ];
+        if self.contact == ContactSide::Rotor {
+            // The rotor evaluates the contact on the films' geometry (paper defaults otherwise).
+            v.push(("contact", "true".into()));
+            v.push(("bearing_C", format!("\"{} um\"", self.clearance_um)));
+            v.push(("bearing_dH", format!("\"{} um\"", self.dh_um)));
+        }
+        v.into_iter().map(|(k, x)| (k.to_string(), x)).collect()
+    }
+
+    /// An air film's parameters of this run-up as (name, TOML literal), before `fmu_parameters`.
+    fn film_parameters(&self) -> Vec<(String, String)> {
+        let mut v: Vec<(&str, String)> = vec![
+            ("C", format!("\"{} um\"", self.clearance_um)),
+            ("dH", format!("\"{} um\"", self.dh_um)),
+            ("n_elem_phi", self.n_elem_phi.to_string()),
+            ("n_elem_z", self.n_elem_z.to_string()),
+        ];
+        if let Some([rtol, atol]) = self.film_tolerance {
+            v.push(("rtol", format!("{rtol:?}")));
+            v.push(("atol", format!("\"{atol} Pa\"")));
+        }
+        if self.contact == ContactSide::Rotor {
+            v.push(("contact_in_force", "false".into()));
+        }
+        v.into_iter().map(|(k, x)| (k.to_string(), x)).collect()
+    }
+
+    /// The parameters of instance `inst` ("rotor", "film_C", "film_T") as (name, TOML literal):
+    /// the run-up's own, each `fmu_parameters` entry for it replacing or adding one. Entries that
+    /// fail their check are left out here; `validate` reports them.
+    pub fn instance_parameters(&self, inst: &str) -> Vec<(String, String)> {
+        let mut v = if inst == "rotor" {
+            self.rotor_parameters()
+        } else {
+            self.film_parameters()
+        };
+        for p in self.checked_fmu_parameters().unwrap_or_default() {
+            if !p.applies_to(inst) {
+                continue;
+            }
+            let lit = p.toml_literal();
+            match v.iter_mut().find(|(k, _)| *k == p.name) {
+                Some(e) => e.1 = lit,
+                None => v.push((p.name.clone(), lit)),
+            }
+        }
+        v
     }
 
     /// The system file for this run-up; `fmu_dir` holds rotor.fmu and airfilm.fmu.
     pub fn system_toml(&self, fmu_dir: &str) -> String {
         let mut s = String::new();
-        let (mc, rc, pc) = self.imbalance_c;
-        let (mt, rt, pt) = self.imbalance_t;
+        let table = |inst: &str| -> String {
+            let kv: Vec<String> = self
+                .instance_parameters(inst)
+                .into_iter()
+                .map(|(k, v)| format!("{k} = {v}"))
+                .collect();
+            format!("parameters = {{ {} }}", kv.join(", "))
+        };
         writeln!(
             s,
             "# Run-up '{}' generated by airring (units are SI unless a string names them).",
@@ -150,47 +246,15 @@ impl RunupSettings {
         .unwrap();
         writeln!(
             s,
-            "[[fmu]]\nname = \"rotor\"\npath = \"{fmu_dir}/rotor.fmu\""
-        )
-        .unwrap();
-        writeln!(
-            s,
-            "parameters = {{ c_C = \"{c} N/mm\", c_T = \"{c} N/mm\", d_C = {d:?}, d_T = {d:?}, m_R_C = \"{m} g\", m_R_T = \"{m} g\", f_max = {f:?}, t_ramp = {tr:?}, m_imb_C = \"{mc} g\", r_imb_C = \"{rc} mm\", phase_imb_C = \"{pc} deg\", m_imb_T = \"{mt} g\", r_imb_T = \"{rt} mm\", phase_imb_T = \"{pt} deg\", disturbance_force = \"{dist} mN\", disturbance_seed = {seed}{contact} }}",
-            c = self.c_n_per_mm,
-            d = self.d_n_s_per_m,
-            m = self.m_r_g,
-            f = self.f_max_hz,
-            tr = self.t_ramp_s,
-            dist = self.disturbance_mn,
-            seed = self.disturbance_seed,
-            // The rotor evaluates the contact on the films' geometry (paper defaults otherwise).
-            contact = match self.contact {
-                ContactSide::Rotor => format!(
-                    ", contact = true, bearing_C = \"{} um\", bearing_dH = \"{} um\"",
-                    self.clearance_um, self.dh_um
-                ),
-                ContactSide::Film => String::new(),
-            }
+            "[[fmu]]\nname = \"rotor\"\npath = \"{fmu_dir}/rotor.fmu\"\n{}",
+            table("rotor")
         )
         .unwrap();
         for side in ["C", "T"] {
             writeln!(
                 s,
-                "\n[[fmu]]\nname = \"film_{side}\"\npath = \"{fmu_dir}/airfilm.fmu\""
-            )
-            .unwrap();
-            let tol = match self.film_tolerance {
-                Some([rtol, atol]) => format!(", rtol = {rtol:?}, atol = \"{atol} Pa\""),
-                None => String::new(),
-            };
-            let contact = match self.contact {
-                ContactSide::Rotor => ", contact_in_force = false",
-                ContactSide::Film => "",
-            };
-            writeln!(
-                s,
-                "parameters = {{ C = \"{} um\", dH = \"{} um\", n_elem_phi = {}, n_elem_z = {}{tol}{contact} }}",
-                self.clearance_um, self.dh_um, self.n_elem_phi, self.n_elem_z
+                "\n[[fmu]]\nname = \"film_{side}\"\npath = \"{fmu_dir}/airfilm.fmu\"\n{}",
+                table(&format!("film_{side}"))
             )
             .unwrap();
         }
@@ -392,5 +456,28 @@ mod tests {
             !text.contains("contact =") && !text.contains("contact_in_force"),
             "{text}"
         );
+    }
+
+    #[test]
+    fn fmu_parameters_replace_or_extend_the_generated_ones() {
+        let mut s = RunupSettings::preset("path1").unwrap();
+        s.fmu_parameters = vec![
+            ("rotor.c_C".into(), "1500 N/mm".into()),
+            ("film.eta".into(), "2e-5".into()),
+            ("film_T.C".into(), "25 um".into()),
+        ];
+        s.validate().unwrap();
+        let sys: toml::Table = s.system_toml("fmus").parse().unwrap();
+        let fmus = sys["fmu"].as_array().unwrap();
+        let params = |i: usize| fmus[i]["parameters"].as_table().unwrap().clone();
+        assert_eq!(fmus[0]["name"].as_str(), Some("rotor"));
+        assert_eq!(params(0)["c_C"].as_str(), Some("1500 N/mm"));
+        assert_eq!(params(0)["c_T"].as_str(), Some("1000 N/mm"));
+        assert_eq!(params(1)["eta"].as_float(), Some(2e-5));
+        assert_eq!(params(2)["eta"].as_float(), Some(2e-5));
+        assert_eq!(params(1)["C"].as_str(), Some("20 um"));
+        assert_eq!(params(2)["C"].as_str(), Some("25 um"));
+        s.fmu_parameters = vec![("film.C".into(), "5 furlongs".into())];
+        assert!(s.validate().unwrap_err().contains("furlongs"));
     }
 }

@@ -11,6 +11,7 @@
 use crate::runup::RunupSettings;
 use crate::stability::{self, StabilityReport};
 use crate::sweep::{plot_maps, write_table, RunRecord, Study};
+use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -46,6 +47,7 @@ pub fn settings_for(
             "f_max" => s.f_max_hz = num(k, v)?,
             "t_ramp" => s.t_ramp_s = num(k, v)?,
             "mesh" => (s.n_elem_phi, s.n_elem_z) = crate::runup::parse_mesh(v, "mesh")?,
+            k if crate::sweep::is_fmu_key(k) => s.fmu_parameters.push((k.to_string(), v.clone())),
             _ => {}
         }
     }
@@ -65,10 +67,25 @@ pub fn visible_onset_hz(r: &StabilityReport, n_visible: f64) -> Option<f64> {
     Some(f0 + w * (f1 - f0))
 }
 
+/// Study keys that change a run-up's outcome but not the linear model: predictions of studies
+/// that vary them are flagged (N_VISIBLE is calibrated on the default disturbance, no imbalance
+/// and the full ramp).
+const IGNORED_BY_LINEAR: &[&str] = &[
+    "disturbance",
+    "disturbance_seed",
+    "imbalance_c",
+    "imbalance_t",
+    "stop",
+];
+
 /// One predicted grid point.
 #[derive(Debug, Clone)]
 pub struct Prediction {
     pub name: String,
+    /// Why the point has no prediction (bad parameters, no static equilibrium, ...).
+    pub error: Option<String>,
+    /// Already unstable at the first speed of the grid: the threshold lies below it.
+    pub unstable_below_grid: bool,
     pub threshold_hz: Option<f64>,
     pub mode_freq_hz: Option<f64>,
     pub mode: Option<String>,
@@ -91,66 +108,101 @@ pub fn predict(
     let start = Instant::now();
     let mut preds = Vec::with_capacity(study.runs.len());
     let mut records = Vec::with_capacity(study.runs.len());
+    let ignored: BTreeSet<&str> = study
+        .runs
+        .iter()
+        .flat_map(|r| r.args.keys())
+        .filter_map(|k| IGNORED_BY_LINEAR.iter().copied().find(|i| *i == k.as_str()))
+        .collect();
+    if !ignored.is_empty() && !quiet {
+        eprintln!(
+            "linear prediction: the study sets {}, which the linear model does not see (its onset \
+             level N = {N_VISIBLE} assumes the default disturbance, no imbalance and the full ramp)",
+            ignored.into_iter().collect::<Vec<_>>().join(", ")
+        );
+    }
     for (k, spec) in study.runs.iter().enumerate() {
         let t0 = Instant::now();
         let mut args = spec.args.clone();
         args.entry("mesh".into())
             .or_insert_with(|| format!("{}x{}", mesh.0, mesh.1));
-        let s = settings_for(&args).map_err(|e| format!("{}: {e}", spec.name))?;
-        let grid: Vec<f64> = speeds_hz
-            .iter()
-            .copied()
-            .filter(|f| *f <= s.f_max_hz)
-            .collect();
-        let r = stability::analyse(&s, &grid).map_err(|e| format!("{}: {e}", spec.name))?;
-        let onset_hz = visible_onset_hz(&r, N_VISIBLE);
-        let ramp = s.f_max_hz / s.t_ramp_s;
-        let p = Prediction {
-            name: spec.name.clone(),
-            threshold_hz: r
-                .threshold
-                .as_ref()
-                .map(|t| t.speed_hz)
-                .or(r.unstable_at_first_speed.then_some(grid[0])),
-            mode_freq_hz: r.threshold.as_ref().map(|t| t.mode.freq_hz),
-            mode: r
-                .threshold
-                .as_ref()
-                .map(|t| format!("{} whirl; {}", t.mode.whirl, t.mode.description)),
-            n_at_f_max: r.growth_exponent.last().copied().unwrap_or(0.0),
-            onset_hz,
-            onset_time_s: onset_hz.map(|f| f / ramp),
-            wall_time_s: t0.elapsed().as_secs_f64(),
+        // A point that cannot be predicted is recorded as failed; the others go on.
+        let result = settings_for(&args).and_then(|s| {
+            let grid: Vec<f64> = speeds_hz
+                .iter()
+                .copied()
+                .filter(|f| *f <= s.f_max_hz)
+                .collect();
+            if grid.is_empty() {
+                return Err(format!(
+                    "no grid speed at or below f_max = {} Hz",
+                    s.f_max_hz
+                ));
+            }
+            stability::analyse(&s, &grid).map(|r| (s, r))
+        });
+        let (p, settings) = match result {
+            Ok((s, r)) => (
+                prediction_of(&spec.name, &s, &r, t0),
+                serde_json::to_value(&s),
+            ),
+            Err(e) => (
+                Prediction {
+                    name: spec.name.clone(),
+                    error: Some(e),
+                    unstable_below_grid: false,
+                    threshold_hz: None,
+                    mode_freq_hz: None,
+                    mode: None,
+                    n_at_f_max: f64::NAN,
+                    onset_hz: None,
+                    onset_time_s: None,
+                    wall_time_s: t0.elapsed().as_secs_f64(),
+                },
+                Ok(serde_json::Value::Null),
+            ),
+        };
+        let classification = match (&p.error, p.unstable_below_grid, p.onset_hz) {
+            (Some(_), _, _) => None,
+            // Unstable from the lowest speed analysed, as the run-up class of that name.
+            (None, true, _) => Some("unstable_low_speed"),
+            (None, false, Some(_)) => Some("unstable_linear"),
+            (None, false, None) => Some("stable"),
         };
         records.push(RunRecord {
             name: spec.name.clone(),
             index: spec.index,
             args: spec.args.clone(),
-            status: "completed".into(),
-            classification: Some(
-                if onset_hz.is_some() {
-                    "unstable_linear"
-                } else {
-                    "stable"
-                }
-                .into(),
-            ),
+            status: if p.error.is_some() {
+                "failed"
+            } else {
+                "completed"
+            }
+            .into(),
+            classification: classification.map(String::from),
             onset_time_s: p.onset_time_s,
             onset_speed_hz: p.onset_hz,
             max_eps_c: None,
             max_eps_t: None,
             wall_time_s: Some(p.wall_time_s),
-            settings: serde_json::to_value(&s).unwrap_or_default(),
+            settings: settings.unwrap_or_default(),
         });
         if !quiet {
+            let what = match (&p.error, p.unstable_below_grid) {
+                (Some(e), _) => format!("failed: {e}"),
+                (None, true) => format!("unstable already at {} Hz", speeds_hz[0]),
+                (None, false) => format!(
+                    "threshold {}, visible onset {}",
+                    p.threshold_hz
+                        .map_or("none".into(), |f| format!("{f:.0} Hz")),
+                    p.onset_hz.map_or("none".into(), |f| format!("{f:.0} Hz"))
+                ),
+            };
             eprintln!(
-                "linear {}/{} {}: threshold {}, visible onset {} ({:.1} s)",
+                "linear {}/{} {}: {what} ({:.1} s)",
                 k + 1,
                 study.runs.len(),
                 spec.name,
-                p.threshold_hz
-                    .map_or("none".into(), |f| format!("{f:.0} Hz")),
-                p.onset_hz.map_or("none".into(), |f| format!("{f:.0} Hz")),
                 p.wall_time_s
             );
         }
@@ -171,23 +223,87 @@ pub fn predict(
     Ok((preds, maps))
 }
 
+/// The prediction of one point from its stability report.
+fn prediction_of(name: &str, s: &RunupSettings, r: &StabilityReport, t0: Instant) -> Prediction {
+    let below = r.unstable_at_first_speed;
+    // Below the grid the growth exponent has no start: no visible onset is predicted.
+    let onset_hz = if below {
+        None
+    } else {
+        visible_onset_hz(r, N_VISIBLE)
+    };
+    let ramp = s.f_max_hz / s.t_ramp_s;
+    Prediction {
+        name: name.to_string(),
+        error: None,
+        unstable_below_grid: below,
+        threshold_hz: r.threshold.as_ref().map(|t| t.speed_hz),
+        mode_freq_hz: r.threshold.as_ref().map(|t| t.mode.freq_hz),
+        mode: r
+            .threshold
+            .as_ref()
+            .map(|t| format!("{} whirl; {}", t.mode.whirl, t.mode.description)),
+        n_at_f_max: r.growth_exponent.last().copied().unwrap_or(0.0),
+        onset_hz,
+        onset_time_s: onset_hz.map(|f| f / ramp),
+        wall_time_s: t0.elapsed().as_secs_f64(),
+    }
+}
+
+/// Reorders the study's runs so the run-ups the prediction expects to take longest start first:
+/// unstable from the lowest speed, then unstable by predicted onset (earlier onset, longer whirl;
+/// whirls that graze the ring are the slow run-ups), then points without a prediction, then the
+/// stable ones. Run indices (and so shard membership and table order) do not change; with
+/// several jobs this packs the long runs into the start instead of the end of a study.
+pub fn longest_first(study: &mut Study, preds: &[Prediction]) {
+    let rank = |name: &str| -> (u8, f64) {
+        match preds.iter().find(|p| p.name == name) {
+            Some(p) if p.error.is_some() => (2, 0.0),
+            Some(p) if p.unstable_below_grid => (0, 0.0),
+            Some(p) => match p.onset_hz {
+                Some(f) => (1, f),
+                None => (3, 0.0),
+            },
+            None => (2, 0.0),
+        }
+    };
+    study.runs.sort_by(|a, b| {
+        let (ra, rb) = (rank(&a.name), rank(&b.name));
+        ra.0.cmp(&rb.0)
+            .then(ra.1.total_cmp(&rb.1))
+            .then(a.index.cmp(&b.index))
+    });
+}
+
 fn write_csv(preds: &[Prediction], path: &Path) -> Result<(), String> {
     let mut s = String::from(
-        "run,threshold_speed [Hz],unstable_mode_frequency [Hz],growth_exponent_at_f_max [-],predicted_onset_speed [Hz],predicted_onset_time [s],unstable_mode,wall_time [s]\n",
+        "run,threshold_speed [Hz],unstable_mode_frequency [Hz],growth_exponent_at_f_max [-],predicted_onset_speed [Hz],predicted_onset_time [s],unstable_mode,wall_time [s],note\n",
     );
     let o = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.1}"));
     for p in preds {
+        let note = match (&p.error, p.unstable_below_grid) {
+            (Some(e), _) => format!("failed: {e}"),
+            (None, true) => {
+                "unstable at the first grid speed: the threshold lies below the grid".into()
+            }
+            (None, false) => String::new(),
+        };
         let _ = writeln!(
             s,
-            "{},{},{},{:.2},{},{},\"{}\",{:.2}",
+            "{},{},{},{},{},{},\"{}\",{:.2},\"{}\"",
             p.name,
             o(p.threshold_hz),
             o(p.mode_freq_hz),
-            p.n_at_f_max,
+            if p.n_at_f_max.is_finite() {
+                format!("{:.2}", p.n_at_f_max)
+            } else {
+                String::new()
+            },
             o(p.onset_hz),
             p.onset_time_s.map_or(String::new(), |t| format!("{t:.4}")),
             p.mode.clone().unwrap_or_default().replace('"', "'"),
-            p.wall_time_s
+            p.wall_time_s,
+            note.replace('"', "'")
         );
     }
     std::fs::write(path, s).map_err(|e| format!("{}: {e}", path.display()))
@@ -196,7 +312,59 @@ fn write_csv(preds: &[Prediction], path: &Path) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::sweep::RunSpec;
     use std::collections::BTreeMap;
+
+    #[test]
+    fn predicted_long_runs_start_first_and_keep_their_index() {
+        let p = |name: &str, below: bool, onset: Option<f64>, error: bool| Prediction {
+            name: name.into(),
+            error: error.then(|| "no equilibrium".to_string()),
+            unstable_below_grid: below,
+            threshold_hz: None,
+            mode_freq_hz: None,
+            mode: None,
+            n_at_f_max: 0.0,
+            onset_hz: onset,
+            onset_time_s: None,
+            wall_time_s: 0.0,
+        };
+        let preds = [
+            p("stable", false, None, false),
+            p("late", false, Some(1200.0), false),
+            p("low", true, None, false),
+            p("early", false, Some(700.0), false),
+            p("failed", false, None, true),
+        ];
+        let mut study = Study {
+            name: "t".into(),
+            runs: preds
+                .iter()
+                .enumerate()
+                .map(|(index, q)| RunSpec {
+                    index,
+                    name: q.name.clone(),
+                    args: BTreeMap::new(),
+                })
+                .collect(),
+        };
+        longest_first(&mut study, &preds);
+        let order: Vec<(&str, usize)> = study
+            .runs
+            .iter()
+            .map(|r| (r.name.as_str(), r.index))
+            .collect();
+        assert_eq!(
+            order,
+            [
+                ("low", 2),
+                ("early", 3),
+                ("late", 1),
+                ("failed", 4),
+                ("stable", 0)
+            ]
+        );
+    }
 
     #[test]
     fn settings_follow_the_study_flags_and_reject_bad_values() {

@@ -197,6 +197,31 @@ fn maps_mark_every_class_with_onset_speed_per_case() {
     for hz in [">1234 Hz<", ">900 Hz<", ">700 Hz<", ">150 Hz<", ">1500 Hz<"] {
         assert!(svg.contains(hz), "{hz}");
     }
+    // Cells sit where their c and d put them: c across (left to right), d upwards.
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let at = |label: &str| -> (f64, f64) {
+        let n = doc
+            .descendants()
+            .find(|n| n.has_tag_name("text") && n.text() == Some(label))
+            .unwrap_or_else(|| panic!("{label}"));
+        let xy = |a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+        (xy("x"), xy("y"))
+    };
+    let (c500_d500, c1000_d50, c1000_d500, c1500_d50) =
+        (at("1234 Hz"), at("900 Hz"), at("700 Hz"), at("150 Hz"));
+    assert!(
+        c500_d500.0 < c1000_d50.0 && c1000_d50.0 < c1500_d50.0,
+        "c across"
+    );
+    assert!(
+        (c1000_d50.0 - c1000_d500.0).abs() < 1e-9,
+        "one c, one column"
+    );
+    assert!(
+        c1000_d500.1 < c1000_d50.1,
+        "d upwards (SVG y grows downwards)"
+    );
+    assert!((c1000_d50.1 - c1500_d50.1).abs() < 1e-9, "one d, one row");
     assert!(
         maps[1].extension().unwrap() == "png" && std::fs::metadata(&maps[1]).unwrap().len() > 1000
     );
@@ -269,4 +294,147 @@ fn linear_prediction_matches_the_stability_command_point_by_point() {
         n_fmax > 12.0 && onset > threshold && onset < 2000.0,
         "{row}"
     );
+}
+
+/// A batch system's time limit (SIGTERM to the whole job, as Slurm sends it) stops a sweep and
+/// its run-up cleanly: the run-up writes a checkpoint and an "interrupted" summary, and the same
+/// sweep command afterwards resumes it from that checkpoint instead of starting again at t = 0.
+#[test]
+fn sigterm_interrupts_a_sweep_and_the_next_sweep_resumes_from_the_checkpoint() {
+    use std::os::unix::process::CommandExt;
+    let base = tmp("sigterm");
+    let study = base.join("one.toml");
+    std::fs::write(
+        &study,
+        "name = \"one\"\n[fixed]\npreset = \"path1\"\nstop = 0.4\nmesh = \"8x2\"\n[[grid]]\nc = [1000]\n",
+    )
+    .unwrap();
+    let out = base.join("out");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_airring"))
+        .args(["sweep", study.to_str().unwrap(), "--jobs", "1", "--out"])
+        .arg(&out)
+        .current_dir(root())
+        .stderr(std::process::Stdio::null())
+        .process_group(0)
+        .spawn()
+        .unwrap();
+    // Wait until the run-up has made progress, then SIGTERM the process group.
+    let log = out.join("runs/c1000/runup.log");
+    let t0 = std::time::Instant::now();
+    while !std::fs::read_to_string(&log).is_ok_and(|l| l.contains("%)")) {
+        assert!(
+            t0.elapsed().as_secs() < 120,
+            "no progress in {}",
+            log.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let pgid = format!("-{}", child.id());
+    assert!(Command::new("kill")
+        .args(["-TERM", "--", &pgid])
+        .status()
+        .unwrap()
+        .success());
+    let status = child.wait().unwrap();
+    assert!(
+        !status.success(),
+        "an interrupted sweep does not report success"
+    );
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("runs/c1000/summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(summary["status"], "interrupted", "{summary}");
+    let t_stop = summary["t_end_s"].as_f64().expect("t_end_s");
+    assert!(t_stop > 0.0 && t_stop < 0.4, "{summary}");
+    assert!(out.join("runs/c1000/checkpoint/master.json").exists());
+
+    let (ok, err) = airring(&[
+        "sweep",
+        study.to_str().unwrap(),
+        "--jobs",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let summary: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(out.join("runs/c1000/summary.json")).unwrap(),
+    )
+    .unwrap();
+    assert_eq!(summary["status"], "completed", "{summary}");
+    // Resumed, not restarted: the time series has one row per output interval from 0 to 0.4 s
+    // (a restart would have truncated and rewritten it; a double run would have duplicates).
+    let csv = std::fs::read_to_string(out.join("runs/c1000/timeseries.csv")).unwrap();
+    let times: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert!(
+        times.windows(2).all(|w| w[1] > w[0]),
+        "times strictly increase"
+    );
+    assert!(*times.last().unwrap() > 0.399, "{:?}", times.last());
+    let log = std::fs::read_to_string(out.join("runs/c1000/runup.log")).unwrap();
+    // The log keeps the first attempt and appends the resumed one.
+    assert!(log.contains("resuming"), "the second run resumed: {log}");
+    assert!(
+        log.find("stop signal").unwrap_or(usize::MAX) < log.find("resuming").unwrap(),
+        "{log}"
+    );
+    let _ = std::fs::remove_dir_all(&base);
+}
+
+/// `airring runup --set` reaches the FMU: with film_T's clearance set to 25 um (film_C keeps the
+/// preset's 20 um), each film's reported eccentricity is its journal's displacement over its own
+/// clearance. A parameter the FMU does not have stops the run-up before it starts, naming it.
+#[test]
+fn set_flags_reach_the_fmus() {
+    let dir = tmp("set");
+    let (ok, err) = airring(&[
+        "runup",
+        "--stop",
+        "0.004",
+        "--mesh",
+        "8x2",
+        "--set",
+        "film_T.C=25 um",
+        "--quiet",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let sys = std::fs::read_to_string(dir.join("system.toml")).unwrap();
+    assert!(sys.contains("C = \"25 um\""), "{sys}");
+    let csv = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| h.starts_with(name)).unwrap();
+    let last: Vec<f64> = lines
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    for (side, c_m) in [("C", 20e-6), ("T", 25e-6)] {
+        let d =
+            last[col(&format!("rotor.dx_{side} "))].hypot(last[col(&format!("rotor.dy_{side} "))]);
+        let eps = last[col(&format!("film_{side}.eps "))];
+        assert!(d > 1e-7, "the journal has moved: {d}");
+        assert!(
+            (eps - d / c_m).abs() < 1e-6 * eps.max(1e-3),
+            "{side}: eps {eps} vs {}",
+            d / c_m
+        );
+    }
+    let (ok, err) = airring(&[
+        "runup",
+        "--set",
+        "film.bogus=1",
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(!ok && err.contains("no parameter 'bogus'"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

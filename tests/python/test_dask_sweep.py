@@ -52,3 +52,13 @@ def test_dask_local_cluster_matches_airring_sweep(tmp_path):
                        timeout=60)
     assert r.returncode == 0, r.stderr
     assert table(ref / "study.csv") == rows
+
+
+def test_dask_sweep_rejects_a_bad_shard(tmp_path):
+    study = tmp_path / "tiny.toml"
+    study.write_text(STUDY.format(fmu=ROOT / "target" / "fmu"))
+    for bad in ["0/2", "3/2", "x"]:
+        r = subprocess.run([sys.executable, str(ROOT / "scripts" / "dask_sweep.py"), str(study), "--out",
+                            str(tmp_path / "o"), "--shard", bad, "--airring", airring_exe()],
+                           capture_output=True, text=True, timeout=60)
+        assert r.returncode != 0 and "--shard expects k/n" in r.stderr, (bad, r.stderr)

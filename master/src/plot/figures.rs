@@ -242,12 +242,31 @@ pub fn orbit(series: &RunSeries, b: Bearing, lobes: &LobeGeometry) -> Canvas {
         .step_by(stride)
         .map(|(x, y)| (x * 1e6, y * 1e6))
         .collect();
+    let (mut c, ax) = bearing_frame(
+        lobes,
+        &pts,
+        &format!("Orbit of journal in ring, bearing {}", b.label()),
+    );
+    c.polyline(
+        ax.map_all(pts),
+        Rgb::BLUE,
+        0.8,
+        false,
+        Role::Series,
+        &format!("dr_{}", b.label()),
+    );
+    c
+}
+
+/// A square frame (equal scales) of journal-in-ring displacements dx, dy [um] with the clearance
+/// circle C and the lobe contours (where the gap closes), large enough for `pts` [um] and the
+/// contours (radius up to C + dH). The caller draws its data into the returned axes.
+pub fn bearing_frame(lobes: &LobeGeometry, pts: &[(f64, f64)], title: &str) -> (Canvas, Axes) {
     let contours: Vec<Vec<(f64, f64)>> = lobes
         .contours_m(60)
         .into_iter()
         .map(|l| l.into_iter().map(|(x, y)| (x * 1e6, y * 1e6)).collect())
         .collect();
-    // Square frame: equal scales, the contours (radius up to C + dH) and the orbit inside.
     let r = pts
         .iter()
         .chain(contours.iter().flatten())
@@ -263,12 +282,7 @@ pub fn orbit(series: &RunSeries, b: Bearing, lobes: &LobeGeometry) -> Canvas {
         x: (-r, r),
         y: (-r, r),
     };
-    ax.draw(
-        &mut c,
-        &format!("Orbit of journal in ring, bearing {}", b.label()),
-        "dx [um]",
-        "dy [um]",
-    );
+    ax.draw(&mut c, title, "dx [um]", "dy [um]");
     let circle: Vec<(f64, f64)> = (0..=120)
         .map(|i| {
             let a = std::f64::consts::TAU * i as f64 / 120.0;
@@ -293,13 +307,5 @@ pub fn orbit(series: &RunSeries, b: Bearing, lobes: &LobeGeometry) -> Canvas {
             &format!("lobe {}", k + 1),
         );
     }
-    c.polyline(
-        ax.map_all(pts),
-        Rgb::BLUE,
-        0.8,
-        false,
-        Role::Series,
-        &format!("dr_{}", b.label()),
-    );
-    c
+    (c, ax)
 }

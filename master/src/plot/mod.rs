@@ -8,6 +8,8 @@ pub mod axes;
 pub mod canvas;
 mod figures;
 
+pub use figures::bearing_frame;
+
 use std::path::{Path, PathBuf};
 
 use crate::analysis::{Classification, RunSeries};
@@ -36,6 +38,17 @@ impl LobeGeometry {
             alpha_rad: std::f64::consts::PI - phi_t,
             c_m: 20e-6,
             dh_m: 40e-6,
+        }
+    }
+
+    /// The bore of an air-film parameter set (its lobe count, extent, orientation, C and dH).
+    pub fn of_bearing(b: &fmu_airfilm::BearingParams) -> Self {
+        LobeGeometry {
+            n_lobes: b.n_lobes,
+            phi_t_rad: b.phi_t_rad,
+            alpha_rad: b.alpha_rad,
+            c_m: b.c_m,
+            dh_m: b.dh_m,
         }
     }
 

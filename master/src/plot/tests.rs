@@ -45,6 +45,14 @@ fn lobe_contours_close_at_c_on_trailing_edges_and_open_to_c_plus_dh() {
 }
 
 #[test]
+fn lobe_geometry_of_the_paper_bearing_is_the_paper_geometry() {
+    assert_eq!(
+        LobeGeometry::of_bearing(&fmu_airfilm::BearingParams::paper()),
+        LobeGeometry::paper()
+    );
+}
+
+#[test]
 fn runup_figures_are_written_well_formed_with_their_series() {
     let mut s = base(5e-5, 3.0);
     add_whirl(

@@ -11,7 +11,7 @@
 //! so K(|nu|), D(|nu|) serve both whirl directions.
 
 use super::equilibrium::SolvedBearing;
-use fmu_rotor::linear::{lateral_matrices, modes, Mode, Whirl};
+use fmu_rotor::linear::{lateral_matrices, modes, real_eigenvalues, Mode, Whirl};
 use fmu_rotor::{FilmCoefficients, RotorParams};
 use serde::Serialize;
 use std::collections::HashMap;
@@ -92,9 +92,32 @@ pub struct ModeResult {
     pub description: String,
     /// Iterations of nu = Im(lambda).
     pub iterations: usize,
+    /// nu = Im(lambda) / 2 pi was met to 1e-6 within the iteration limit; if not, the mode is the
+    /// last iterate (its films taken at a frequency off its own), flagged in the printed table.
+    pub converged: bool,
 }
 
-fn result_of(m: &Mode, iterations: usize) -> ModeResult {
+/// A non-oscillating (real) eigenvalue `re` [1/s] as a mode entry: frequency 0; a divergence
+/// when `re` > 0.
+pub fn real_mode(re: f64) -> ModeResult {
+    ModeResult {
+        freq_hz: 0.0,
+        growth_per_s: re,
+        damping_ratio: if re > 0.0 { -1.0 } else { 1.0 },
+        // Undefined without oscillation: reported as 0 rather than a NaN.
+        log_decrement: 0.0,
+        whirl: "none".into(),
+        description: if re > 0.0 {
+            "non-oscillating: static divergence (a real eigenvalue > 0)".into()
+        } else {
+            "non-oscillating, overdamped".into()
+        },
+        iterations: 0,
+        converged: true,
+    }
+}
+
+fn result_of(m: &Mode, iterations: usize, converged: bool) -> ModeResult {
     let lam = m.eigenvalue;
     ModeResult {
         freq_hz: m.freq_hz,
@@ -107,6 +130,7 @@ fn result_of(m: &Mode, iterations: usize) -> ModeResult {
         },
         description: m.shape.describe(),
         iterations,
+        converged,
     }
 }
 
@@ -121,17 +145,22 @@ fn modes_with(
     modes(&lm).map_err(|e| e.to_string())
 }
 
-/// All modes at `omega_rad_s`, each with film coefficients at its own frequency, sorted by frequency.
+/// All oscillating modes at `omega_rad_s`, each with film coefficients at its own frequency,
+/// sorted by frequency; and the real eigenvalues [1/s] with the static film coefficients (exact
+/// where it matters: a real eigenvalue crosses 0, a divergence, at nu = 0).
 pub fn system_modes(
     rotor: &RotorParams,
     omega_rad_s: f64,
     bearings: &[SolvedBearing; 2],
-) -> Result<Vec<ModeResult>, String> {
+) -> Result<(Vec<ModeResult>, Vec<f64>), String> {
     let mut tables = [
         ImpedanceTable::new(&bearings[0]),
         ImpedanceTable::new(&bearings[1]),
     ];
     let start = modes_with(rotor, omega_rad_s, &mut tables, 0.0)?;
+    let films0 = [tables[0].at(0.0)?, tables[1].at(0.0)?];
+    let real = real_eigenvalues(&lateral_matrices(rotor, omega_rad_s, &films0))
+        .map_err(|e| e.to_string())?;
     let mut out = Vec::with_capacity(start.len());
     for (rank, m0) in start.iter().enumerate() {
         // Mode `rank` (by frequency) of A(nu) defines g(nu) = Im(lambda_rank(nu)) / 2 pi - nu; its
@@ -170,9 +199,10 @@ pub fn system_modes(
             iterations += 1;
         }
         if !lost {
-            out.push(result_of(&current, iterations));
+            let converged = g.abs() <= 1e-6 * nu.abs() + 1e-6;
+            out.push(result_of(&current, iterations, converged));
         }
     }
     out.sort_by(|a, b| a.freq_hz.total_cmp(&b.freq_hz));
-    Ok(out)
+    Ok((out, real))
 }

@@ -1,7 +1,8 @@
 //! `airring stability`: flags (as the run-up's), the printed Campbell table, stability.json and
-//! the diagrams.
+//! the figures (Campbell, damping, journal locus, eccentricity).
 
 use super::{analyse, parse_speeds, StabilityReport};
+use crate::plot::LobeGeometry;
 use crate::runup::RunupSettings;
 use std::path::PathBuf;
 
@@ -34,6 +35,10 @@ pub struct StabilityArgs {
     /// Output folder for stability.json and the diagrams.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Any other FMU parameter, repeatable, as for `airring runup`: PREFIX.NAME=VALUE with PREFIX
+    /// rotor, film, film_C or film_T (e.g. --set film.eta=1.9e-5, --set "film_T.C=25 um").
+    #[arg(long = "set", value_name = "FMU.NAME=VALUE")]
+    pub set: Vec<String>,
 }
 
 /// The run-up settings these flags describe (preset, then overrides).
@@ -47,6 +52,7 @@ pub fn settings(a: &StabilityArgs) -> Result<RunupSettings, String> {
     if let Some(m) = &a.mesh {
         (s.n_elem_phi, s.n_elem_z) = crate::runup::parse_mesh(m, "--mesh")?;
     }
+    s.fmu_parameters = crate::fmu_params::parse_set_flags(&a.set)?;
     s.validate()?;
     Ok(s)
 }
@@ -56,15 +62,23 @@ fn print_table(s: &RunupSettings, r: &StabilityReport) {
         "linear stability: c = {} N/mm, d = {} N s/m, m_R = {} g, C = {} um, dH = {} um, mesh {}x{}",
         s.c_n_per_mm, s.d_n_s_per_m, s.m_r_g, s.clearance_um, s.dh_um, s.n_elem_phi, s.n_elem_z
     );
+    if !s.fmu_parameters.is_empty() {
+        let kv: Vec<String> = s
+            .fmu_parameters
+            .iter()
+            .map(|(k, v)| format!("{k} = {v}"))
+            .collect();
+        println!("FMU parameters: {}", kv.join(", "));
+    }
     println!("Campbell table: whirl frequency [Hz], F/B = forward/backward, damping ratio [%]; N = growth");
     println!(
         "exponent Int Re(lambda) dt accumulated along a run-up at {:.1} Hz/s",
         r.ramp_hz_per_s
     );
     print!("{:>7} {:>6} {:>6} {:>6} |", "speed", "eps_C", "eps_T", "N");
-    let n = r.speeds.first().map_or(0, |s| s.modes.len());
-    for k in 0..n {
-        print!(" {:>14}", format!("mode {}", k + 1));
+    let n_ranks = r.speeds.iter().map(|s| s.modes.len()).max().unwrap_or(0);
+    for k in 0..n_ranks {
+        print!(" {:>15}", format!("mode {}", k + 1));
     }
     println!();
     for (sp, n) in r.speeds.iter().zip(&r.growth_exponent) {
@@ -74,12 +88,44 @@ fn print_table(s: &RunupSettings, r: &StabilityReport) {
         );
         for m in &sp.modes {
             let w = if m.whirl == "forward" { 'F' } else { 'B' };
-            print!(" {:6.0}{w} {:6.2}", m.freq_hz, 100.0 * m.damping_ratio);
+            let flag = if m.converged { ' ' } else { '*' };
+            print!(
+                " {:6.0}{w} {:6.2}{flag}",
+                m.freq_hz,
+                100.0 * m.damping_ratio
+            );
+        }
+        // Ranks this speed lacks (overdamped there) stay blank, so the columns line up.
+        for _ in sp.modes.len()..n_ranks {
+            print!(" {:>15}", "-");
+        }
+        if let Some(re) = sp.real_eigenvalues_per_s.iter().copied().reduce(f64::max) {
+            if re > 0.0 {
+                print!("  divergence: real eigenvalue {re:.3e} 1/s");
+            }
         }
         println!();
     }
+    let unconverged: usize = r
+        .speeds
+        .iter()
+        .map(|s| s.modes.iter().filter(|m| !m.converged).count())
+        .sum();
+    if unconverged > 0 {
+        println!(
+            "* {unconverged} mode(s) did not meet nu = Im(lambda) to 1e-6 in the iteration limit: \
+             their film coefficients are taken at a nearby frequency"
+        );
+    }
     match (&r.threshold, r.unstable_at_first_speed) {
-        (_, true) => println!("unstable already at the first speed of the range"),
+        (_, true) => println!(
+            "unstable already at the first speed of the range ({} Hz): the threshold lies below it",
+            r.speeds.first().map_or(f64::NAN, |s| s.speed_hz)
+        ),
+        (Some(t), _) if t.mode.whirl == "none" => println!(
+            "threshold speed of instability: {:.1} Hz (+-{} Hz): static divergence (a real eigenvalue crosses 0)",
+            t.speed_hz, t.tolerance_hz
+        ),
         (Some(t), _) => println!(
             "threshold speed of instability: {:.1} Hz (+-{} Hz): {} whirl at {:.1} Hz (whirl ratio {:.3}), log decrement {:.4}; {}",
             t.speed_hz,
@@ -106,6 +152,7 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
             "preset": s.preset, "c_n_per_mm": s.c_n_per_mm, "d_n_s_per_m": s.d_n_s_per_m,
             "m_r_g": s.m_r_g, "clearance_um": s.clearance_um, "dh_um": s.dh_um,
             "n_elem_phi": s.n_elem_phi, "n_elem_z": s.n_elem_z,
+            "fmu_parameters": s.fmu_parameters,
             "nu_grid_hz": super::campbell::GRID_HZ,
         },
         "report": r,
@@ -115,7 +162,9 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
         let path = dir.join("stability.json");
         std::fs::write(&path, serde_json::to_string_pretty(&v).unwrap())
             .map_err(|e| format!("{}: {e}", path.display()))?;
-        let figs = super::figures::save(&r, dir).map_err(|e| e.to_string())?;
+        // Both films share the bore unless --set gives film_T another one: draw bearing C's.
+        let lobes = LobeGeometry::of_bearing(&super::params_of(&s)?.1[0]);
+        let figs = super::figures::save(&r, &lobes, dir).map_err(|e| e.to_string())?;
         println!("wrote {} and {} figure files", path.display(), figs.len());
     }
     Ok(v)

@@ -1,10 +1,12 @@
-//! Campbell and damping diagrams of a stability report, drawn with the run-up plot helpers
-//! (`plot::axes`, `plot::canvas`): one polyline per mode rank (modes sorted by frequency at each
-//! speed, so a line can jump where two modes cross); whirl directions are in stability.json.
+//! Figures of a stability report, drawn with the run-up plot helpers (`plot::axes`,
+//! `plot::canvas`): Campbell and damping diagrams (one polyline per mode rank: modes sorted by
+//! frequency at each speed, so a line can jump where two modes cross; whirl directions are in
+//! stability.json), and the static equilibrium vs speed (journal locus in the bore, eccentricity).
 
 use super::StabilityReport;
 use crate::plot::axes::Axes;
 use crate::plot::canvas::{Anchor, Canvas, Rgb, Role};
+use crate::plot::{bearing_frame, LobeGeometry};
 use std::path::{Path, PathBuf};
 
 const W: u32 = 900;
@@ -20,8 +22,33 @@ const PALETTE: [Rgb; 8] = [
     Rgb(127, 127, 127),
 ];
 
+/// The most oscillating modes at any speed (at low speed heavy ring damping can leave fewer).
 fn n_modes(r: &StabilityReport) -> usize {
-    r.speeds.iter().map(|s| s.modes.len()).min().unwrap_or(0)
+    r.speeds.iter().map(|s| s.modes.len()).max().unwrap_or(0)
+}
+
+/// Mode rank `k`'s points (speed, value) as runs of consecutive speeds that have that rank: a
+/// speed with fewer oscillating modes breaks the line instead of dropping the mode everywhere.
+fn rank_segments(
+    r: &StabilityReport,
+    k: usize,
+    value: impl Fn(&super::campbell::ModeResult) -> f64,
+) -> Vec<Vec<(f64, f64)>> {
+    let mut out: Vec<Vec<(f64, f64)>> = vec![];
+    let mut open = false;
+    for s in &r.speeds {
+        match s.modes.get(k) {
+            Some(m) => {
+                if !open {
+                    out.push(vec![]);
+                    open = true;
+                }
+                out.last_mut().expect("open").push((s.speed_hz, value(m)));
+            }
+            None => open = false,
+        }
+    }
+    out
 }
 
 fn range(vals: impl Iterator<Item = f64>) -> (f64, f64) {
@@ -79,15 +106,16 @@ pub fn campbell(r: &StabilityReport) -> Canvas {
     let mut legend = vec![];
     let names: Vec<String> = (0..n_modes(r)).map(|k| format!("mode {}", k + 1)).collect();
     for k in 0..n_modes(r) {
-        let pts = r.speeds.iter().map(|s| (s.speed_hz, s.modes[k].freq_hz));
-        c.polyline(
-            ax.map_all(pts),
-            PALETTE[k % 8],
-            1.6,
-            false,
-            Role::Series,
-            &names[k],
-        );
+        for seg in rank_segments(r, k, |m| m.freq_hz) {
+            c.polyline(
+                ax.map_all(seg),
+                PALETTE[k % 8],
+                1.6,
+                false,
+                Role::Series,
+                &names[k],
+            );
+        }
         legend.push((names[k].as_str(), PALETTE[k % 8]));
     }
     mark_threshold(&mut c, &ax, r);
@@ -124,18 +152,16 @@ pub fn damping(r: &StabilityReport) -> Canvas {
     let mut legend = vec![];
     let names: Vec<String> = (0..n_modes(r)).map(|k| format!("mode {}", k + 1)).collect();
     for k in 0..n_modes(r) {
-        let pts = r
-            .speeds
-            .iter()
-            .map(|s| (s.speed_hz, (100.0 * s.modes[k].damping_ratio).min(zr.1)));
-        c.polyline(
-            ax.map_all(pts),
-            PALETTE[k % 8],
-            1.6,
-            false,
-            Role::Series,
-            &names[k],
-        );
+        for seg in rank_segments(r, k, |m| (100.0 * m.damping_ratio).min(zr.1)) {
+            c.polyline(
+                ax.map_all(seg),
+                PALETTE[k % 8],
+                1.6,
+                false,
+                Role::Series,
+                &names[k],
+            );
+        }
         legend.push((names[k].as_str(), PALETTE[k % 8]));
     }
     mark_threshold(&mut c, &ax, r);
@@ -143,9 +169,87 @@ pub fn damping(r: &StabilityReport) -> Canvas {
     c
 }
 
-/// Write campbell.svg/.png and damping.svg/.png into `dir`.
-pub fn save(r: &StabilityReport, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+const BEARINGS: [(&str, Rgb); 2] = [("bearing C", PALETTE[0]), ("bearing T", PALETTE[1])];
+
+/// Journal centre relative to its ring [um] at the static equilibrium, over the speed range, in
+/// the bore (clearance circle, lobe contours); the lowest and highest speeds are labelled.
+pub fn locus(r: &StabilityReport, lobes: &LobeGeometry) -> Canvas {
+    let loci: Vec<Vec<(f64, f64)>> = (0..2)
+        .map(|b| {
+            r.speeds
+                .iter()
+                .map(|s| (s.bearings[b].dx_um, s.bearings[b].dy_um))
+                .collect()
+        })
+        .collect();
+    let all: Vec<(f64, f64)> = loci.iter().flatten().copied().collect();
+    let (mut c, ax) = bearing_frame(
+        lobes,
+        &all,
+        "Static equilibrium: journal locus in the ring (gravity load)",
+    );
+    for ((name, color), pts) in BEARINGS.iter().zip(&loci) {
+        c.polyline(
+            ax.map_all(pts.clone()),
+            *color,
+            1.8,
+            false,
+            Role::Series,
+            name,
+        );
+        let ends = [r.speeds.first(), r.speeds.last()];
+        for (s, p) in ends.into_iter().zip([pts.first(), pts.last()]) {
+            if let (Some(s), Some(&(x, y))) = (s, p) {
+                let (px, py) = ax.map(x, y);
+                c.text(
+                    px + 5.0,
+                    py + 4.0,
+                    &format!("{:.0} Hz", s.speed_hz),
+                    11.0,
+                    Anchor::Start,
+                );
+            }
+        }
+    }
+    let legend: Vec<(&str, Rgb)> = BEARINGS.to_vec();
+    ax.legend(&mut c, &legend);
+    c
+}
+
+/// Eccentricity |d| / C of each bearing's static equilibrium vs speed.
+pub fn eccentricity(r: &StabilityReport) -> Canvas {
+    let xr = range(r.speeds.iter().map(|s| s.speed_hz));
+    let er = range(
+        r.speeds
+            .iter()
+            .flat_map(|s| s.bearings.iter().map(|b| b.eps)),
+    );
+    let mut c = Canvas::new(W, H);
+    let ax = Axes::standard(W, H, xr, (0.0, er.1.max(0.1)));
+    ax.draw(
+        &mut c,
+        "Static equilibrium under gravity: eccentricity",
+        "rotor speed [Hz]",
+        "eccentricity |d| / C [1]",
+    );
+    for (b, (name, color)) in BEARINGS.iter().enumerate() {
+        let pts = r.speeds.iter().map(|s| (s.speed_hz, s.bearings[b].eps));
+        c.polyline(ax.map_all(pts), *color, 1.8, false, Role::Series, name);
+    }
+    mark_threshold(&mut c, &ax, r);
+    ax.legend(&mut c, &BEARINGS);
+    c
+}
+
+/// Write campbell, damping, locus and eccentricity (.svg and .png each) into `dir`.
+pub fn save(
+    r: &StabilityReport,
+    lobes: &LobeGeometry,
+    dir: &Path,
+) -> std::io::Result<Vec<PathBuf>> {
     let mut out = campbell(r).save(dir, "campbell")?;
     out.extend(damping(r).save(dir, "damping")?);
+    out.extend(locus(r, lobes).save(dir, "locus")?);
+    out.extend(eccentricity(r).save(dir, "eccentricity")?);
     Ok(out)
 }

@@ -19,23 +19,21 @@ use fmu_rotor::RotorParams;
 use serde::Serialize;
 use std::f64::consts::TAU;
 
-/// Rotor and film parameters of a run-up setting (the parameters a run-up would use).
-pub fn params_of(s: &RunupSettings) -> (RotorParams, BearingParams) {
-    let mut r = RotorParams::paper();
-    r.c_c_n_m = s.c_n_per_mm * 1e3;
-    r.c_t_n_m = s.c_n_per_mm * 1e3;
-    r.d_c_n_s_m = s.d_n_s_per_m;
-    r.d_t_n_s_m = s.d_n_s_per_m;
-    r.m_r_c_kg = s.m_r_g * 1e-3;
-    r.m_r_t_kg = s.m_r_g * 1e-3;
-    let b = BearingParams {
-        c_m: s.clearance_um / 1e6,
-        dh_m: s.dh_um / 1e6,
-        n_elem_phi: s.n_elem_phi as usize,
-        n_elem_z: s.n_elem_z as usize,
-        ..BearingParams::paper()
+/// Rotor and film parameters [C, T] of a run-up setting: the parameters the run-up's system file
+/// gives each FMU instance (including `--set` ones), mapped by the FMUs' own `params_from`, so the
+/// linear model and the run-up cannot disagree on a parameter. One exception: the films' contact
+/// force is always part of the linearized film (`contact_in_force`), because the rotor model of the
+/// linearization has no contact of its own, wherever a run-up evaluates it.
+pub fn params_of(s: &RunupSettings) -> Result<(RotorParams, [BearingParams; 2]), String> {
+    s.checked_fmu_parameters()?;
+    let store = |inst: &str| crate::fmu_params::store_for(inst, &s.instance_parameters(inst));
+    let rotor = fmu_rotor::shell::params_from(&store("rotor")?);
+    let film = |inst: &str| -> Result<BearingParams, String> {
+        let mut b = fmu_airfilm::shell::params_from(&store(inst)?);
+        b.contact_in_force = true;
+        Ok(b)
     };
-    (r, b)
+    Ok((rotor, [film("film_C")?, film("film_T")?]))
 }
 
 /// Everything at one speed.
@@ -44,16 +42,28 @@ pub struct SpeedResult {
     pub speed_hz: f64,
     /// [C, T].
     pub bearings: [BearingEquilibrium; 2],
-    /// Sorted by frequency.
+    /// Oscillating modes, sorted by frequency.
     pub modes: Vec<ModeResult>,
+    /// Real eigenvalues [1/s] of the system with the static film coefficients (non-oscillating
+    /// motion: overdamped modes, or a static divergence if one is > 0).
+    pub real_eigenvalues_per_s: Vec<f64>,
 }
 
 impl SpeedResult {
-    /// The least damped mode (largest Re(lambda)).
-    pub fn critical(&self) -> Option<&ModeResult> {
-        self.modes
+    /// The least damped mode (largest Re(lambda)): an oscillating one, or a non-oscillating
+    /// (real) eigenvalue when that is larger (a divergence once it is > 0).
+    pub fn critical(&self) -> Option<ModeResult> {
+        let osc = self
+            .modes
             .iter()
-            .max_by(|a, b| a.growth_per_s.total_cmp(&b.growth_per_s))
+            .max_by(|a, b| a.growth_per_s.total_cmp(&b.growth_per_s));
+        let real = self.real_eigenvalues_per_s.iter().copied().reduce(f64::max);
+        match (osc, real) {
+            (Some(m), Some(r)) if r <= m.growth_per_s => Some(m.clone()),
+            (None, None) => None,
+            (Some(m), None) => Some(m.clone()),
+            (_, Some(r)) => Some(campbell::real_mode(r)),
+        }
     }
     pub fn max_growth_per_s(&self) -> f64 {
         self.critical()
@@ -106,7 +116,7 @@ pub fn growth_exponent(speeds: &[SpeedResult], ramp_hz_per_s: f64) -> Vec<f64> {
 /// Equilibrium of both bearings at `speed_hz`, optionally warm-started from another speed's.
 fn equilibria(
     rotor: &RotorParams,
-    film: &BearingParams,
+    films: &[BearingParams; 2],
     speed_hz: f64,
     warm: Option<&[SolvedBearing; 2]>,
 ) -> Result<[SolvedBearing; 2], String> {
@@ -121,10 +131,10 @@ fn equilibria(
                 let j = w[i].journal;
                 ([j.dx_m, j.dy_m], Some(w[i].lin.steady()))
             }
-            None => ([0.0, -0.2 * film.c_m], None),
+            None => ([0.0, -0.2 * films[i].c_m], None),
         };
         solve_bearing(
-            film,
+            &films[i],
             TAU * speed_hz,
             loads[i],
             start,
@@ -139,16 +149,17 @@ fn equilibria(
 
 fn analyse_speed(
     rotor: &RotorParams,
-    film: &BearingParams,
+    films: &[BearingParams; 2],
     speed_hz: f64,
     warm: Option<&[SolvedBearing; 2]>,
 ) -> Result<(SpeedResult, [SolvedBearing; 2]), String> {
-    let eq = equilibria(rotor, film, speed_hz, warm)?;
-    let modes = system_modes(rotor, TAU * speed_hz, &eq)?;
+    let eq = equilibria(rotor, films, speed_hz, warm)?;
+    let (modes, real_eigenvalues_per_s) = system_modes(rotor, TAU * speed_hz, &eq)?;
     let res = SpeedResult {
         speed_hz,
         bearings: [eq[0].summary.clone(), eq[1].summary.clone()],
         modes,
+        real_eigenvalues_per_s,
     };
     Ok((res, eq))
 }
@@ -156,9 +167,11 @@ fn analyse_speed(
 /// Campbell data over `speeds_hz` (ascending, > 0) and the threshold speed of instability.
 pub fn analyse(s: &RunupSettings, speeds_hz: &[f64]) -> Result<StabilityReport, String> {
     let t0 = std::time::Instant::now();
-    let (rotor, film) = params_of(s);
-    rotor.validate().map_err(|e| e.to_string())?;
-    film.validate().map_err(|e| e.to_string())?;
+    let (rotor, films) = params_of(s)?;
+    rotor.validate().map_err(|e| format!("rotor: {e}"))?;
+    for (f, side) in films.iter().zip(["C", "T"]) {
+        f.validate().map_err(|e| format!("film_{side}: {e}"))?;
+    }
     if speeds_hz.is_empty() || speeds_hz.iter().any(|f| !(f.is_finite() && *f > 0.0)) {
         return Err("speeds must be finite and > 0 Hz".into());
     }
@@ -172,13 +185,13 @@ pub fn analyse(s: &RunupSettings, speeds_hz: &[f64]) -> Result<StabilityReport, 
     std::thread::scope(|scope| {
         let handles: Vec<_> = (0..n_threads)
             .map(|t| {
-                let (rotor, film) = (&rotor, &film);
+                let (rotor, films) = (&rotor, &films);
                 scope.spawn(move || {
                     (t..speeds_hz.len())
                         .step_by(n_threads)
                         .map(|i| {
                             let f = speeds_hz[i];
-                            let r = analyse_speed(rotor, film, f, None)
+                            let r = analyse_speed(rotor, films, f, None)
                                 .map_err(|e| format!("at {f} Hz: {e}"));
                             (i, r)
                         })
@@ -208,14 +221,14 @@ pub fn analyse(s: &RunupSettings, speeds_hz: &[f64]) -> Result<StabilityReport, 
         let (mut lo, mut hi) = (speeds_hz[i - 1], speeds_hz[i]);
         // Warm start from the last stable speed: equilibria move little over the bracket.
         let mut warm: Option<[SolvedBearing; 2]> = None;
-        let mut hi_mode = speeds[i].critical().cloned();
+        let mut hi_mode = speeds[i].critical();
         while hi - lo > tolerance_hz {
             let mid = 0.5 * (lo + hi);
             let w = warm.as_ref().unwrap_or(&solved[i - 1]);
-            let (r, eq) = analyse_speed(&rotor, &film, mid, Some(w))?;
+            let (r, eq) = analyse_speed(&rotor, &films, mid, Some(w))?;
             if r.max_growth_per_s() > 0.0 {
                 hi = mid;
-                hi_mode = r.critical().cloned();
+                hi_mode = r.critical();
             } else {
                 lo = mid;
                 warm = Some(eq);

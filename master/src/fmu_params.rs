@@ -1,0 +1,277 @@
+//! FMU parameters by name (`--set film.eta="1.9e-5 Pa s"`, study keys such as `rotor.m`), checked
+//! and converted in-process against the FMUs' own variable tables, the tables the shipped
+//! modelDescription.xml files are generated from. The run-up writes them into its system file;
+//! the linear stability analysis applies them to the same parameter mapping the FMUs use
+//! (`shell::params_from`), so both see the same physics.
+
+use fmi2::{Causality, Model, ModelInfo, Store, VarType};
+use fmu_airfilm::shell::AirFilmFmu;
+use fmu_rotor::shell::RotorFmu;
+
+/// Which FMU instances of a run-up a parameter goes to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Target {
+    Rotor,
+    /// Both air films.
+    Films,
+    FilmC,
+    FilmT,
+}
+
+impl Target {
+    /// Prefixes accepted before the dot.
+    pub const PREFIXES: &'static [&'static str] = &["rotor", "film", "film_C", "film_T"];
+
+    fn parse(s: &str) -> Option<Target> {
+        match s {
+            "rotor" => Some(Target::Rotor),
+            "film" => Some(Target::Films),
+            "film_C" => Some(Target::FilmC),
+            "film_T" => Some(Target::FilmT),
+            _ => None,
+        }
+    }
+
+    /// The run-up's instance names this target covers.
+    pub fn instances(self) -> &'static [&'static str] {
+        match self {
+            Target::Rotor => &["rotor"],
+            Target::Films => &["film_C", "film_T"],
+            Target::FilmC => &["film_C"],
+            Target::FilmT => &["film_T"],
+        }
+    }
+
+    fn info(self) -> ModelInfo {
+        match self {
+            Target::Rotor => RotorFmu::info(),
+            _ => AirFilmFmu::info(),
+        }
+    }
+}
+
+/// A parameter value in the variable's own type; Reals in SI.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Value {
+    Real(f64),
+    Integer(i32),
+    Boolean(bool),
+}
+
+/// One checked FMU parameter.
+#[derive(Clone, Debug, PartialEq)]
+pub struct FmuParameter {
+    pub target: Target,
+    /// Variable name in the FMU.
+    pub name: String,
+    /// The value as given ("15 um", "1e-5", "true"): written as is into system files, whose
+    /// reader converts units through the FMU's declared display units.
+    pub text: String,
+    pub vr: u32,
+    pub value: Value,
+}
+
+impl FmuParameter {
+    /// `key` = "PREFIX.NAME" (PREFIX: rotor, film (both films), film_C, film_T) and the value
+    /// text: a number (SI), "number unit" with a display unit the FMU declares for the variable,
+    /// an integer, or true/false.
+    pub fn parse(key: &str, text: &str) -> Result<FmuParameter, String> {
+        let (target, var) = lookup(key)?;
+        let name = var.name;
+        let bad = |what: &str| format!("'{key}' = '{text}': {what}");
+        let t = text.trim();
+        let value = match var.var_type {
+            VarType::Boolean => match t {
+                "true" => Value::Boolean(true),
+                "false" => Value::Boolean(false),
+                _ => return Err(bad("expected true or false")),
+            },
+            VarType::Integer => Value::Integer(t.parse().map_err(|_| bad("expected an integer"))?),
+            VarType::Real => Value::Real(real_si(&var, t).map_err(|e| bad(&e))?),
+        };
+        let as_f64 = match value {
+            Value::Real(x) => x,
+            Value::Integer(i) => i as f64,
+            Value::Boolean(_) => 0.0,
+        };
+        if var.min.is_some_and(|m| as_f64 < m) || var.max.is_some_and(|m| as_f64 > m) {
+            return Err(bad(&format!(
+                "outside the variable's range [{}, {}] (SI)",
+                var.min.map_or("-inf".into(), |m| m.to_string()),
+                var.max.map_or("inf".into(), |m| m.to_string())
+            )));
+        }
+        Ok(FmuParameter {
+            target,
+            name: name.to_string(),
+            text: t.to_string(),
+            vr: var.vr,
+            value,
+        })
+    }
+
+    /// Does this parameter go to instance `inst` ("rotor", "film_C", "film_T")?
+    pub fn applies_to(&self, inst: &str) -> bool {
+        self.target.instances().contains(&inst)
+    }
+
+    /// The value as a TOML literal for a system file (strings keep their unit).
+    pub fn toml_literal(&self) -> String {
+        match self.value {
+            Value::Real(_) if self.text.parse::<f64>().is_err() => format!("\"{}\"", self.text),
+            Value::Real(x) => format!("{x:?}"),
+            Value::Integer(i) => i.to_string(),
+            Value::Boolean(b) => b.to_string(),
+        }
+    }
+
+    /// Writes the value into a store of the FMU's variable values.
+    pub fn apply(&self, store: &mut Store) {
+        let i = self.vr as usize;
+        match self.value {
+            Value::Real(x) => store.reals[i] = x,
+            Value::Integer(v) => store.integers[i] = v,
+            Value::Boolean(b) => store.booleans[i] = b,
+        }
+    }
+}
+
+/// The FMU and the parameter variable a key PREFIX.NAME names.
+fn lookup(key: &str) -> Result<(Target, fmi2::Variable), String> {
+    let (prefix, name) = key.split_once('.').ok_or_else(|| {
+        format!("'{key}': an FMU parameter is PREFIX.NAME with PREFIX one of rotor, film, film_C, film_T")
+    })?;
+    let target = Target::parse(prefix).ok_or_else(|| {
+        format!(
+            "'{key}': unknown FMU '{prefix}' (one of {})",
+            Target::PREFIXES.join(", ")
+        )
+    })?;
+    let info = target.info();
+    let params = || {
+        info.variables
+            .iter()
+            .filter(|v| v.causality == Causality::Parameter)
+    };
+    match params().find(|v| v.name == name) {
+        Some(v) => Ok((target, v.clone())),
+        None => {
+            let names: Vec<&str> = params().map(|v| v.name).collect();
+            Err(format!(
+                "'{key}': '{}' has no parameter '{name}' (parameters: {})",
+                info.model_name,
+                names.join(", ")
+            ))
+        }
+    }
+}
+
+/// Checks that `key` names a parameter of one of the run-up's FMUs.
+pub fn check_key(key: &str) -> Result<(), String> {
+    lookup(key).map(|_| ())
+}
+
+/// "number" (SI) or "number unit" (the SI unit or one of its declared display units) -> SI.
+fn real_si(var: &fmi2::Variable, t: &str) -> Result<f64, String> {
+    let (num, unit) =
+        crate::system::split_quantity(t).ok_or("expected 'number' or 'number unit'")?;
+    let si = if unit.is_empty() || Some(unit) == var.unit {
+        num
+    } else {
+        let def = var.unit.and_then(fmi2::units::unit);
+        let (_, factor, offset) = def
+            .and_then(|d| d.display_units.iter().find(|u| u.0 == unit))
+            .ok_or_else(|| {
+                let mut units: Vec<&str> = var.unit.into_iter().collect();
+                if let Some(d) = def {
+                    units.extend(d.display_units.iter().map(|u| u.0));
+                }
+                format!(
+                    "unit '{unit}' does not fit (accepted: {})",
+                    units.join(", ")
+                )
+            })?;
+        (num - offset) / factor
+    };
+    if si.is_finite() {
+        Ok(si)
+    } else {
+        Err("not a finite number".into())
+    }
+}
+
+/// Parses and checks `--set PREFIX.NAME=VALUE` entries into (PREFIX.NAME, VALUE) pairs.
+pub fn parse_set_flags(flags: &[String]) -> Result<Vec<(String, String)>, String> {
+    flags
+        .iter()
+        .map(|f| {
+            let (k, v) = f.split_once('=').ok_or_else(|| {
+                format!("--set '{f}': expected PREFIX.NAME=VALUE, e.g. film.eta=1.9e-5")
+            })?;
+            let p = FmuParameter::parse(k.trim(), v).map_err(|e| format!("--set {e}"))?;
+            Ok((k.trim().to_string(), p.text))
+        })
+        .collect()
+}
+
+/// The store of the variable values of instance `inst` ("rotor", "film_C", "film_T"): the FMU's
+/// start values, then `parameters` as (name, TOML literal), e.g. a run-up's
+/// `RunupSettings::instance_parameters`.
+pub fn store_for(inst: &str, parameters: &[(String, String)]) -> Result<Store, String> {
+    let target = if inst == "rotor" {
+        Target::Rotor
+    } else {
+        Target::FilmC
+    };
+    let mut store = Store::from_info(&target.info());
+    for (name, literal) in parameters {
+        let text = literal.trim_matches('"');
+        FmuParameter::parse(&format!("{inst}.{name}"), text)?.apply(&mut store);
+    }
+    Ok(store)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn parameters_are_checked_and_converted_through_the_display_units() {
+        let p = FmuParameter::parse("film.C", "15 um").unwrap();
+        assert_eq!(p.target, Target::Films);
+        assert_eq!(p.value, Value::Real(15e-6));
+        assert!(p.applies_to("film_C") && p.applies_to("film_T") && !p.applies_to("rotor"));
+        assert_eq!(p.toml_literal(), "\"15 um\"");
+        let p = FmuParameter::parse("rotor.c_C", "1500 N/mm").unwrap();
+        assert_eq!(p.value, Value::Real(1.5e6));
+        assert_eq!(
+            FmuParameter::parse("film_T.eta", "2e-5")
+                .unwrap()
+                .toml_literal(),
+            "2e-5"
+        );
+        assert_eq!(
+            FmuParameter::parse("film_C.n_elem_phi", "12")
+                .unwrap()
+                .value,
+            Value::Integer(12)
+        );
+        for (k, v, why) in [
+            ("eta", "1", "PREFIX.NAME"),
+            ("stator.eta", "1", "unknown FMU"),
+            ("film.viscosity", "1", "no parameter 'viscosity'"),
+            ("film.Fx", "1", "no parameter 'Fx'"),
+            ("film.C", "15 furlongs", "unit 'furlongs' does not fit"),
+            ("film.C", "wide", "expected 'number'"),
+            ("film.n_elem_phi", "1.5", "integer"),
+            ("film.plain_bore", "yes", "true or false"),
+            ("film.C", "inf", "finite"),
+        ] {
+            let e = FmuParameter::parse(k, v).unwrap_err();
+            assert!(e.contains(why), "{k} = {v}: {e}");
+        }
+        assert!(parse_set_flags(&["film.eta".into()])
+            .unwrap_err()
+            .contains("PREFIX.NAME=VALUE"));
+    }
+}

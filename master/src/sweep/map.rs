@@ -1,0 +1,358 @@
+//! Bifurcation maps as the paper's Fig. 17, drawn on the plot canvas (SVG + PNG).
+
+use super::study::{keys_in, short_and_unit, Params, NUMERICS};
+use super::RunRecord;
+use crate::plot::canvas::{Anchor, Canvas, Item, Rgb};
+use std::path::{Path, PathBuf};
+
+/// Run-up classes, their names in the legend and their (shorter) labels in a map cell.
+const CLASS_NAMES: &[(&str, &str, &str)] = &[
+    ("stable", "stable", "stable"),
+    ("path1", "path 1", "path 1"),
+    ("path2a", "path 2a", "path 2a"),
+    ("path2b", "path 2b", "path 2b"),
+    ("unstable_low_speed", "unstable low", "unst.low"),
+    ("unstable_linear", "lin. unst.", "lin. unst."),
+];
+
+fn legend_color(name: &str) -> Rgb {
+    LEGEND
+        .iter()
+        .find(|e| e.0 == name)
+        .map_or(Rgb(240, 240, 240), |e| e.1)
+}
+
+/// What a map cell shows: its fill and a short label.
+fn cell_style(r: &RunRecord) -> (Rgb, String) {
+    let class = r
+        .classification
+        .as_deref()
+        .and_then(|c| CLASS_NAMES.iter().find(|e| e.0 == c));
+    if r.status == "completed" {
+        return match class {
+            Some(&(_, name, label)) => (legend_color(name), label.to_string()),
+            None => (Rgb(240, 240, 240), "unclassified".into()),
+        };
+    }
+    // A run that failed after its onset (the journal reached the contact limit or the film's
+    // Newton iteration gave up in a violent whirl) keeps the unstable class it had reached: an
+    // unstable run that ends in contact is no less unstable. Its label carries "(f)". A run
+    // stopped by hand after its onset likewise, with "(i)".
+    let interrupted = r.status == "interrupted";
+    let reached =
+        class.filter(|e| r.onset_time_s.is_some() && !["stable", "unstable_linear"].contains(&e.0));
+    match reached {
+        Some(&(_, name, label)) => {
+            let marker = if interrupted { "i" } else { "f" };
+            (legend_color(name), format!("{label} ({marker})"))
+        }
+        None if interrupted => (Rgb(225, 225, 225), "interrupted".into()),
+        None => (legend_color("failed"), "failed".into()),
+    }
+}
+
+/// The legend of the maps, in this order.
+pub const LEGEND: &[(&str, Rgb)] = &[
+    ("stable", Rgb(166, 219, 160)),
+    ("path 1", Rgb(146, 197, 222)),
+    ("path 2a", Rgb(253, 219, 132)),
+    ("path 2b", Rgb(244, 165, 130)),
+    ("unstable low", Rgb(214, 96, 77)),
+    ("lin. unst.", Rgb(203, 180, 227)),
+    ("failed", Rgb(190, 190, 190)),
+];
+
+/// Width of a legend entry [px]: swatch, its name at 12 px (~0.85 em per character), a gap.
+fn legend_entry_w(name: &str) -> f64 {
+    24.0 + 0.85 * 12.0 * name.chars().count() as f64 + 22.0
+}
+
+/// "C = 15 um" for a flag and its value.
+fn labelled(k: &str, v: &str) -> String {
+    let (short, unit) = short_and_unit(k);
+    if unit.is_empty() {
+        format!("{short} = {v}")
+    } else {
+        format!("{short} = {v} {unit}")
+    }
+}
+
+fn fmt_num(v: f64) -> String {
+    if v == v.round() && v.abs() < 1e12 {
+        format!("{}", v as i64)
+    } else {
+        format!("{v}")
+    }
+}
+
+/// The map panels: runs grouped by every flag except c, d and the numerical settings (in KEYS
+/// order), in the order of first appearance; and the flags that make up the key. Cells of one
+/// panel may come from runs with different numerics (the table lists them).
+fn map_panels(records: &[RunRecord]) -> (Vec<String>, Vec<(Params, Vec<&RunRecord>)>) {
+    let panel_keys: Vec<String> = keys_in(records.iter().map(|r| &r.args))
+        .into_iter()
+        .filter(|k| k != "c" && k != "d" && !NUMERICS.contains(&k.as_str()))
+        .collect();
+    let key_of = |r: &RunRecord| -> Params {
+        panel_keys
+            .iter()
+            .filter_map(|k| r.args.get(k).map(|v| (k.clone(), v.clone())))
+            .collect()
+    };
+    let mut panels: Vec<(Params, Vec<&RunRecord>)> = Vec::new();
+    for r in records {
+        let k = key_of(r);
+        match panels.iter_mut().find(|p| p.0 == k) {
+            Some(p) => p.1.push(r),
+            None => panels.push((k, vec![r])),
+        }
+    }
+    (panel_keys, panels)
+}
+
+/// Bifurcation maps as the paper's Fig. 17: one panel per combination of the parameters other than
+/// c and d (the (C, dH) cases), c [N/mm] across, d [N s/m] upwards, each cell coloured by the run's
+/// class and labelled with the onset speed. Writes `<stem>.svg` and `<stem>.png` into `dir`.
+pub fn plot_maps(records: &[RunRecord], dir: &Path, stem: &str) -> std::io::Result<Vec<PathBuf>> {
+    let (panel_keys, panels) = map_panels(records);
+    // Title: the panel parameters that differ between panels (all of them if only one panel).
+    let varying: Vec<String> = panel_keys
+        .iter()
+        .filter(|k| {
+            let vals: Vec<Option<&String>> = panels
+                .iter()
+                .map(|p| p.0.iter().find(|(a, _)| a == *k).map(|(_, v)| v))
+                .collect();
+            vals.windows(2).any(|w| w[0] != w[1])
+        })
+        .map(|k| k.to_string())
+        .collect();
+    let sorted_unique = |vals: Vec<f64>| -> Vec<f64> {
+        let mut v: Vec<f64> = vals.into_iter().filter(|x| x.is_finite()).collect();
+        v.sort_by(|a, b| a.total_cmp(b));
+        v.dedup();
+        v
+    };
+    let grids: Vec<(Vec<f64>, Vec<f64>)> = panels
+        .iter()
+        .map(|(_, rs)| {
+            (
+                sorted_unique(rs.iter().filter_map(|r| r.param("c")).collect()),
+                sorted_unique(rs.iter().filter_map(|r| r.param("d")).collect()),
+            )
+        })
+        .collect();
+    let max_nc = grids.iter().map(|g| g.0.len()).max().unwrap_or(1).max(1);
+    let max_nd = grids.iter().map(|g| g.1.len()).max().unwrap_or(1).max(1);
+    let (cell_w, cell_h) = (92.0, 46.0);
+    let (ml, mt, mr, mb) = (78.0, 42.0, 18.0, 52.0);
+    let pw = (ml + cell_w * max_nc as f64 + mr).max(300.0);
+    let ph = mt + cell_h * max_nd as f64 + mb;
+    let ncols = panels.len().clamp(1, 3);
+    let nrows = panels.len().div_ceil(ncols).max(1);
+    let legend_h = 60.0;
+    let legend_w: f64 = 20.0 + LEGEND.iter().map(|(n, _)| legend_entry_w(n)).sum::<f64>();
+    let width = (pw * ncols as f64).max(legend_w).ceil() as u32;
+    let height = (ph * nrows as f64 + legend_h).ceil() as u32;
+    let mut c = Canvas::new(width, height);
+    for (pi, ((key, rs), (cs, ds))) in panels.iter().zip(&grids).enumerate() {
+        let ox = pw * (pi % ncols) as f64;
+        let oy = ph * (pi / ncols) as f64;
+        let title: Vec<String> = key
+            .iter()
+            .filter(|(k, _)| {
+                if varying.is_empty() {
+                    k == "clearance" || k == "dh"
+                } else {
+                    varying.contains(k)
+                }
+            })
+            .map(|(k, v)| labelled(k, v))
+            .collect();
+        let title = if title.is_empty() {
+            "all runs".to_string()
+        } else {
+            title.join(", ")
+        };
+        let (gx, gy) = (ox + ml, oy + mt);
+        let (gw, gh) = (cell_w * cs.len() as f64, cell_h * ds.len() as f64);
+        // Centred over the grid, but kept inside the panel when the grid is narrower than the
+        // title (the canvas font is ~0.85 em wide per character).
+        let half_title = 0.5 * 0.85 * 14.0 * title.chars().count() as f64;
+        let tx = (gx + 0.5 * gw).max(ox + half_title + 4.0);
+        c.text(tx, oy + 22.0, &title, 14.0, Anchor::Middle);
+        for r in rs {
+            let (Some(cv), Some(dv)) = (r.param("c"), r.param("d")) else {
+                continue;
+            };
+            let (Some(ic), Some(id)) = (
+                cs.iter().position(|x| *x == cv),
+                ds.iter().position(|x| *x == dv),
+            ) else {
+                continue;
+            };
+            let x = gx + cell_w * ic as f64;
+            let y = gy + gh - cell_h * (id + 1) as f64;
+            let (fill, label) = cell_style(r);
+            c.items.push(Item::Rect {
+                x,
+                y,
+                w: cell_w,
+                h: cell_h,
+                fill: Some(fill),
+                stroke: Some(Rgb::WHITE),
+            });
+            // "path 1 (f)": the marker goes on the second line (such runs show no onset speed),
+            // so the label fits a narrow cell.
+            let (class, marker) = label.split_once(" (").unwrap_or((&label, ""));
+            c.text(x + 0.5 * cell_w, y + 19.0, class, 12.0, Anchor::Middle);
+            if !marker.is_empty() {
+                let marker = format!("({marker}");
+                c.text(x + 0.5 * cell_w, y + 36.0, &marker, 12.0, Anchor::Middle);
+            }
+            if let Some(f) = r.onset_speed_hz.filter(|_| r.status == "completed") {
+                c.text(
+                    x + 0.5 * cell_w,
+                    y + 36.0,
+                    &format!("{f:.0} Hz"),
+                    12.0,
+                    Anchor::Middle,
+                );
+            }
+        }
+        c.items.push(Item::Rect {
+            x: gx,
+            y: gy,
+            w: gw,
+            h: gh,
+            fill: None,
+            stroke: Some(Rgb::BLACK),
+        });
+        for (i, cv) in cs.iter().enumerate() {
+            let x = gx + cell_w * (i as f64 + 0.5);
+            c.text(x, gy + gh + 16.0, &fmt_num(*cv), 12.0, Anchor::Middle);
+        }
+        for (j, dv) in ds.iter().enumerate() {
+            let y = gy + gh - cell_h * (j as f64 + 0.5) + 4.0;
+            c.text(gx - 6.0, y, &fmt_num(*dv), 12.0, Anchor::End);
+        }
+        c.text(
+            gx + 0.5 * gw,
+            gy + gh + 36.0,
+            "c [N/mm]",
+            13.0,
+            Anchor::Middle,
+        );
+        c.vtext(gx - 56.0, gy + 0.5 * gh, "d [N s/m]", 13.0);
+    }
+    let ly = ph * nrows as f64 + 10.0;
+    // Each entry as wide as its name (~0.85 em per character, as for the titles) plus a gap, so
+    // a long name cannot run into the next swatch.
+    let mut x = 10.0;
+    for (name, col) in LEGEND.iter() {
+        let entry_w = legend_entry_w(name);
+        c.items.push(Item::Rect {
+            x,
+            y: ly,
+            w: 18.0,
+            h: 18.0,
+            fill: Some(*col),
+            stroke: Some(Rgb::GREY),
+        });
+        c.text(x + 24.0, ly + 14.0, name, 12.0, Anchor::Start);
+        x += entry_w;
+    }
+    // The flags every run shares, as a footnote.
+    let common: Vec<String> = keys_in(records.iter().map(|r| &r.args))
+        .into_iter()
+        .filter(|k| k != "c" && k != "d" && !varying.iter().any(|v| v == k))
+        .filter(|k| !(varying.is_empty() && (k == "clearance" || k == "dh")))
+        .filter_map(|k| {
+            let first = records.first()?.args.get(&k)?;
+            records
+                .iter()
+                .all(|r| r.args.get(&k) == Some(first))
+                .then(|| labelled(&k, first))
+        })
+        .collect();
+    if !common.is_empty() {
+        c.text(10.0, ly + 42.0, &common.join(", "), 12.0, Anchor::Start);
+    }
+    c.save(dir, stem)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::BTreeMap;
+
+    #[test]
+    fn failed_runs_keep_the_class_they_reached_after_onset() {
+        let rec = |status: &str, class: Option<&str>, onset: Option<f64>| RunRecord {
+            name: "r".into(),
+            index: 0,
+            args: BTreeMap::new(),
+            status: status.into(),
+            classification: class.map(String::from),
+            onset_time_s: onset,
+            onset_speed_hz: None,
+            max_eps_c: None,
+            max_eps_t: None,
+            wall_time_s: None,
+            settings: serde_json::Value::Null,
+        };
+        assert_eq!(
+            cell_style(&rec("failed", Some("path2b"), Some(1.1))).1,
+            "path 2b (f)"
+        );
+        assert_eq!(cell_style(&rec("failed", Some("stable"), None)).1, "failed");
+        assert_eq!(
+            cell_style(&rec("completed", Some("path2b"), Some(1.1))).1,
+            "path 2b"
+        );
+        assert_eq!(
+            cell_style(&rec("interrupted", Some("path1"), Some(1.1))).1,
+            "path 1 (i)"
+        );
+        assert_eq!(
+            cell_style(&rec("interrupted", Some("stable"), None)).1,
+            "interrupted"
+        );
+    }
+
+    #[test]
+    fn runs_that_differ_only_in_numerics_share_a_panel() {
+        let rec = |c: &str, contact: Option<&str>, clearance: &str| {
+            let mut args: BTreeMap<String, String> =
+                [("clearance", clearance), ("c", c), ("d", "50")]
+                    .into_iter()
+                    .map(|(k, v)| (k.to_string(), v.to_string()))
+                    .collect();
+            if let Some(side) = contact {
+                args.insert("contact".into(), side.into());
+            }
+            RunRecord {
+                name: format!("C{clearance}_c{c}"),
+                index: 0,
+                args,
+                status: "completed".into(),
+                classification: Some("stable".into()),
+                onset_time_s: None,
+                onset_speed_hz: None,
+                max_eps_c: None,
+                max_eps_t: None,
+                wall_time_s: None,
+                settings: serde_json::Value::Null,
+            }
+        };
+        let records = [
+            rec("500", None, "30"),
+            rec("1000", Some("rotor"), "30"),
+            rec("500", Some("film"), "20"),
+        ];
+        let (keys, panels) = map_panels(&records);
+        assert!(!keys.iter().any(|k| k == "contact"));
+        let sizes: Vec<usize> = panels.iter().map(|p| p.1.len()).collect();
+        assert_eq!(sizes, [2, 1], "{panels:?}");
+    }
+}

@@ -1,0 +1,423 @@
+//! `airring sweep`: parameter studies of run-ups, their result table and bifurcation maps.
+//!
+//! A study file (TOML) names fixed run-up flags and one or more grids of parameter lists:
+//!
+//! ```toml
+//! name = "smoke"
+//! [fixed]                      # any `airring runup` flag (without --, '-' or '_'), for every run
+//! preset = "path1"
+//! stop = 0.01
+//! [[grid]]                     # the Cartesian product of its lists; several grids are concatenated
+//! cases = [{ clearance = 15, dh = 30 }]   # paired values, varied together
+//! c = [500, 1000]
+//! d = [50, 500]
+//! ```
+//!
+//! Every grid point is one run-up, run as a child process `airring runup ... --out DIR/runs/NAME`
+//! (a crash or a failed run stays in its folder), `--jobs` at a time. The run name is built from the
+//! grid parameters (`C15_dH30_c500_d50`), so a point listed twice runs once, and a run whose
+//! `summary.json` says `completed` with the same flags (`sweep_run.json`) is not run again.
+//! `--shard k/n` runs the points with index i (0-based, in study order) where i mod n = k - 1;
+//! `airring sweep-merge` collects the run folders of several output folders into one table and map.
+//!
+//! Modules: `study` (study files, run names, the run-up arguments of a grid point, shards),
+//! `table` (the run folders read back, study.csv, merging), `map` (the bifurcation maps); this
+//! file runs the run-ups.
+
+mod map;
+mod study;
+mod table;
+
+pub use map::{plot_maps, LEGEND};
+pub use study::{
+    is_fmu_key, parse_shard, plan_json_lines, run_name, runup_args, RunSpec, Study, KEYS,
+};
+pub use table::{collect, merge, write_table, RunRecord};
+
+use std::collections::BTreeMap;
+use std::io::{BufRead, BufReader, IsTerminal, Write as _};
+use std::path::{Path, PathBuf};
+use std::process::{Child, Command, Stdio};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+pub struct SweepOptions {
+    pub out: PathBuf,
+    pub jobs: usize,
+    pub shard: Option<(usize, usize)>,
+    /// The `airring` executable the run-ups are started with.
+    pub exe: PathBuf,
+    pub quiet: bool,
+    /// Pass --serial-films to every run-up (one core each; set when jobs exceed half the cores).
+    pub serial_films: bool,
+    /// Set by Ctrl-C or SIGTERM: no new run-ups are started; running ones stop themselves
+    /// (same signal) and leave a checkpoint, from which the next sweep resumes them.
+    pub stop: Arc<AtomicBool>,
+    /// Passed to every run-up as --checkpoint-every [s of simulated time]: bounds what a killed
+    /// (not interrupted) run-up loses.
+    pub checkpoint_every_s: Option<f64>,
+}
+
+/// Cores available to this process.
+pub fn cores() -> usize {
+    std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1)
+}
+
+/// Default parallel run-ups: one per core, each stepping its two films one after the other
+/// (throughput: no thread hand-over per macro step, and the rotor step does not leave a core idle).
+pub fn default_jobs() -> usize {
+    cores()
+}
+
+#[derive(Debug, Default)]
+pub struct SweepReport {
+    pub total: usize,
+    pub skipped: usize,
+    pub ran: usize,
+    pub failed: Vec<String>,
+    pub wall_time_s: f64,
+    pub table: PathBuf,
+    pub maps: Vec<PathBuf>,
+}
+
+pub(super) fn read_json(p: &Path) -> Option<serde_json::Value> {
+    serde_json::from_str(&std::fs::read_to_string(p).ok()?).ok()
+}
+
+/// True if `dir` holds a completed run with exactly these flags.
+fn is_done(dir: &Path, args: &BTreeMap<String, String>) -> bool {
+    let done = read_json(&dir.join("summary.json"))
+        .is_some_and(|s| s["status"].as_str() == Some("completed"));
+    let same = read_json(&dir.join("sweep_run.json"))
+        .is_some_and(|r| r["args"] == serde_json::to_value(args).unwrap_or_default());
+    done && same
+}
+
+/// True if `dir` holds an interrupted run (Ctrl-C, SIGTERM of a batch system's time limit)
+/// with exactly these flags and the checkpoint it wrote when it stopped: `airring resume`
+/// continues it instead of starting it again from t = 0.
+fn is_resumable(dir: &Path, args: &BTreeMap<String, String>) -> bool {
+    let interrupted = read_json(&dir.join("summary.json"))
+        .is_some_and(|s| s["status"].as_str() == Some("interrupted"));
+    let same = read_json(&dir.join("sweep_run.json"))
+        .is_some_and(|r| r["args"] == serde_json::to_value(args).unwrap_or_default());
+    interrupted && same && dir.join("checkpoint/master.json").exists()
+}
+
+struct Running {
+    spec: RunSpec,
+    /// The summary a resumed run starts from: if it is still there unchanged when the run
+    /// ends, the run wrote none.
+    stale_summary: Option<String>,
+    child: Child,
+    fraction: Arc<Mutex<f64>>,
+    reader: Option<std::thread::JoinHandle<()>>,
+}
+
+/// Parses "( 12.5 %)" from a run-up's progress line.
+fn progress_fraction(line: &str) -> Option<f64> {
+    let open = line.find('(')?;
+    let close = line[open..].find("%)")? + open;
+    line[open + 1..close]
+        .trim()
+        .parse::<f64>()
+        .ok()
+        .map(|p| p / 100.0)
+}
+
+fn start_run(spec: &RunSpec, opts: &SweepOptions) -> Result<Running, String> {
+    let dir = opts.out.join("runs").join(&spec.name);
+    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    let mut cmd = Command::new(&opts.exe);
+    let resuming = is_resumable(&dir, &spec.args);
+    let mut stale_summary = None;
+    if resuming {
+        stale_summary = std::fs::read_to_string(dir.join("summary.json")).ok();
+        // `resume` reads the run-up settings from the interrupted run's summary.json and writes
+        // a new one; a stale one left behind by a crash is replaced (`ensure_summary`).
+        cmd.arg("resume").arg(&dir);
+    } else {
+        // A stale summary must not count as this run's result.
+        let _ = std::fs::remove_file(dir.join("summary.json"));
+        let meta = serde_json::json!({ "name": spec.name, "index": spec.index, "args": spec.args });
+        std::fs::write(
+            dir.join("sweep_run.json"),
+            serde_json::to_string_pretty(&meta).expect("json"),
+        )
+        .map_err(|e| format!("{}: {e}", dir.display()))?;
+        cmd.args(runup_args(&spec.args));
+        if opts.serial_films {
+            cmd.arg("--serial-films");
+        }
+        cmd.arg("--out").arg(&dir);
+    }
+    if let Some(dt) = opts.checkpoint_every_s {
+        cmd.arg("--checkpoint-every").arg(dt.to_string());
+    }
+    cmd.stdin(Stdio::null())
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped());
+    let mut child = cmd
+        .spawn()
+        .map_err(|e| format!("starting {}: {e}", opts.exe.display()))?;
+    let stderr = child.stderr.take().expect("piped");
+    let fraction = Arc::new(Mutex::new(0.0));
+    let f = fraction.clone();
+    let log_path = dir.join("runup.log");
+    let reader = std::thread::spawn(move || {
+        // A resumed run appends to the log of its first attempt.
+        let mut log = std::fs::OpenOptions::new()
+            .create(true)
+            .write(true)
+            .append(resuming)
+            .truncate(!resuming)
+            .open(&log_path)
+            .ok();
+        for line in BufReader::new(stderr).lines().map_while(Result::ok) {
+            if let Some(l) = log.as_mut() {
+                let _ = writeln!(l, "{line}");
+            }
+            if let Some(p) = progress_fraction(&line) {
+                *f.lock().expect("progress") = p;
+            }
+        }
+    });
+    Ok(Running {
+        spec: spec.clone(),
+        stale_summary,
+        child,
+        fraction,
+        reader: Some(reader),
+    })
+}
+
+/// Writes a failure summary for a run-up that ended without writing one (crash, bad flags,
+/// killed): none is there, or only the `stale` one a resumed run started from.
+fn ensure_summary(dir: &Path, code: Option<i32>, stale: Option<&str>) {
+    let p = dir.join("summary.json");
+    let fresh = std::fs::read_to_string(&p).is_ok_and(|now| Some(now.as_str()) != stale);
+    if fresh {
+        return;
+    }
+    let s = serde_json::json!({
+        "status": "failed",
+        "error": format!("the run-up ended with exit code {code:?} and wrote no summary; see runup.log"),
+        "classification": null, "onset_time_s": null, "max_eps_C": null, "max_eps_T": null,
+        "wall_time_s": null,
+    });
+    let _ = std::fs::write(p, serde_json::to_string_pretty(&s).expect("json"));
+}
+
+fn stem_for(shard: Option<(usize, usize)>) -> (String, String) {
+    match shard {
+        None => ("study".into(), "bifurcation_map".into()),
+        Some((k, n)) => (
+            format!("study_shard-{k}-of-{n}"),
+            format!("bifurcation_map_shard-{k}-of-{n}"),
+        ),
+    }
+}
+
+/// Runs (or resumes) a study into `opts.out`, then writes its table and maps.
+pub fn sweep(study: &Study, study_text: &str, opts: &SweepOptions) -> Result<SweepReport, String> {
+    std::fs::create_dir_all(opts.out.join("runs"))
+        .map_err(|e| format!("{}: {e}", opts.out.display()))?;
+    let _ = std::fs::write(opts.out.join("study.toml"), study_text);
+    let mine: Vec<&RunSpec> = study
+        .runs
+        .iter()
+        .filter(|r| opts.shard.is_none_or(|(k, n)| r.index % n == k - 1))
+        .collect();
+    let mut report = SweepReport {
+        total: mine.len(),
+        ..Default::default()
+    };
+    let todo: Vec<&RunSpec> = mine
+        .iter()
+        .copied()
+        .filter(|r| !is_done(&opts.out.join("runs").join(&r.name), &r.args))
+        .collect();
+    report.skipped = mine.len() - todo.len();
+    let start = Instant::now();
+    let tty = std::io::stderr().is_terminal();
+    if !opts.quiet {
+        eprintln!(
+            "sweep '{}'{}: {} runs, {} already completed, {} to run, {} at a time -> {}",
+            study.name,
+            opts.shard
+                .map(|(k, n)| format!(" shard {k}/{n}"))
+                .unwrap_or_default(),
+            mine.len(),
+            report.skipped,
+            todo.len(),
+            opts.jobs,
+            opts.out.display()
+        );
+    }
+    let mut queue = todo.into_iter();
+    let mut running: Vec<Running> = Vec::new();
+    let mut finished = 0usize;
+    let n_todo = mine.len() - report.skipped;
+    let mut last_print = Instant::now() - Duration::from_secs(3600);
+    loop {
+        while running.len() < opts.jobs.max(1) && !opts.stop.load(Ordering::Relaxed) {
+            match queue.next() {
+                Some(spec) => match start_run(spec, opts) {
+                    Ok(r) => running.push(r),
+                    Err(e) => {
+                        eprintln!("sweep: {}: {e}", spec.name);
+                        report.failed.push(spec.name.clone());
+                        finished += 1;
+                    }
+                },
+                None => break,
+            }
+        }
+        if running.is_empty() {
+            break;
+        }
+        let mut i = 0;
+        let mut changed = false;
+        while i < running.len() {
+            match running[i].child.try_wait() {
+                Ok(Some(status)) => {
+                    let mut r = running.swap_remove(i);
+                    if let Some(h) = r.reader.take() {
+                        let _ = h.join();
+                    }
+                    let dir = opts.out.join("runs").join(&r.spec.name);
+                    ensure_summary(&dir, status.code(), r.stale_summary.as_deref());
+                    let s = read_json(&dir.join("summary.json")).unwrap_or_default();
+                    let st = s["status"].as_str().unwrap_or("failed").to_string();
+                    if st != "completed" {
+                        report.failed.push(r.spec.name.clone());
+                    }
+                    report.ran += 1;
+                    finished += 1;
+                    changed = true;
+                    if !opts.quiet {
+                        let line = format!(
+                            "[{finished}/{n_todo}] {}: {st}, {}, onset {} Hz, {:.0} s",
+                            r.spec.name,
+                            s["classification"].as_str().unwrap_or("-"),
+                            s["onset_speed_hz"]
+                                .as_f64()
+                                .map_or("-".into(), |v| format!("{v:.0}")),
+                            s["wall_time_s"].as_f64().unwrap_or(f64::NAN)
+                        );
+                        if tty {
+                            eprint!("\r\x1b[2K");
+                        }
+                        eprintln!("{line}");
+                    }
+                }
+                Ok(None) => i += 1,
+                Err(e) => {
+                    let r = running.swap_remove(i);
+                    eprintln!("sweep: {}: {e}", r.spec.name);
+                    report.failed.push(r.spec.name.clone());
+                    finished += 1;
+                }
+            }
+        }
+        let due = if tty {
+            last_print.elapsed() >= Duration::from_millis(500)
+        } else {
+            last_print.elapsed() >= Duration::from_secs(60) || changed
+        };
+        if !opts.quiet && due && !running.is_empty() {
+            last_print = Instant::now();
+            let part: f64 = running
+                .iter()
+                .map(|r| *r.fraction.lock().expect("progress"))
+                .sum();
+            let frac = (finished as f64 + part) / n_todo.max(1) as f64;
+            let el = start.elapsed().as_secs_f64();
+            let eta = if frac > 1e-3 {
+                format!("{:.0} s", el * (1.0 - frac) / frac)
+            } else {
+                "?".into()
+            };
+            let names: Vec<String> = running
+                .iter()
+                .map(|r| {
+                    format!(
+                        "{} {:.0}%",
+                        r.spec.name,
+                        100.0 * *r.fraction.lock().expect("progress")
+                    )
+                })
+                .collect();
+            let line = format!(
+                "study {:5.1} % | {finished}/{n_todo} done | running: {} | wall {el:.0} s, ETA {eta}",
+                100.0 * frac,
+                names.join(", ")
+            );
+            if tty {
+                eprint!("\r\x1b[2K{line}");
+            } else {
+                eprintln!("{line}");
+            }
+        }
+        std::thread::sleep(Duration::from_millis(100));
+    }
+    if tty && !opts.quiet {
+        eprintln!();
+    }
+    report.wall_time_s = start.elapsed().as_secs_f64();
+    let names: Vec<String> = mine.iter().map(|r| r.name.clone()).collect();
+    let records: Vec<RunRecord> = collect(std::slice::from_ref(&opts.out))
+        .into_iter()
+        .filter(|r| names.contains(&r.name))
+        .collect();
+    let (table, map) = stem_for(opts.shard);
+    report.table = opts.out.join(format!("{table}.csv"));
+    write_table(&records, &report.table)?;
+    report.maps = plot_maps(&records, &opts.out, &map).map_err(|e| format!("maps: {e}"))?;
+    if opts.stop.load(Ordering::Relaxed) {
+        eprintln!("sweep interrupted: run the same command again to continue");
+    }
+    Ok(report)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn progress_is_read_from_the_run_up_line() {
+        assert_eq!(
+            progress_fraction("t = 0.1 s / 3 s ( 12.5 %) | x"),
+            Some(0.125)
+        );
+        assert_eq!(progress_fraction("no progress here"), None);
+    }
+
+    #[test]
+    fn a_run_that_writes_no_summary_is_recorded_as_failed() {
+        let dir = std::env::temp_dir().join(format!("airring-ensure-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        let status = || read_json(&dir.join("summary.json")).unwrap()["status"].clone();
+        // None written: a failure summary naming the exit code.
+        ensure_summary(&dir, Some(3), None);
+        assert_eq!(status(), "failed");
+        assert!(read_json(&dir.join("summary.json")).unwrap()["error"]
+            .as_str()
+            .unwrap()
+            .contains("Some(3)"));
+        // A resumed run that left the interrupted summary as it was: failed too.
+        let stale = r#"{"status": "interrupted"}"#;
+        std::fs::write(dir.join("summary.json"), stale).unwrap();
+        ensure_summary(&dir, None, Some(stale));
+        assert_eq!(status(), "failed");
+        // One that wrote its own is left alone.
+        std::fs::write(dir.join("summary.json"), r#"{"status": "completed"}"#).unwrap();
+        ensure_summary(&dir, Some(0), Some(stale));
+        assert_eq!(status(), "completed");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

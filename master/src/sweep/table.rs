@@ -1,0 +1,142 @@
+//! The run folders of a study read back (`RunRecord`), the study table (study.csv) and merging
+//! the folders of several shards.
+
+use super::study::{is_fmu_key, keys_in, short_and_unit, KEYS};
+use super::{plot_maps, read_json};
+use std::collections::{BTreeMap, HashMap};
+use std::path::{Path, PathBuf};
+
+/// One run's parameters and results, read from its folder.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunRecord {
+    pub name: String,
+    pub index: usize,
+    pub args: BTreeMap<String, String>,
+    pub status: String,
+    pub classification: Option<String>,
+    pub onset_time_s: Option<f64>,
+    pub onset_speed_hz: Option<f64>,
+    pub max_eps_c: Option<f64>,
+    pub max_eps_t: Option<f64>,
+    pub wall_time_s: Option<f64>,
+    pub settings: serde_json::Value,
+}
+
+impl RunRecord {
+    /// A parameter: as the study gave it, else the run-up's effective setting.
+    pub fn param(&self, key: &str) -> Option<f64> {
+        if let Some(v) = self.args.get(key).and_then(|v| v.parse().ok()) {
+            return Some(v);
+        }
+        if is_fmu_key(key) {
+            return None;
+        }
+        let field = KEYS.iter().find(|e| e.0 == key)?.2;
+        self.settings.get(field)?.as_f64()
+    }
+}
+
+/// Every run folder (`runs/*` with `sweep_run.json`) under the given sweep output folders, in study
+/// order (index, then name); a run present in several folders is taken once (a completed one first).
+pub fn collect(dirs: &[PathBuf]) -> Vec<RunRecord> {
+    let mut by_name: HashMap<String, RunRecord> = HashMap::new();
+    for d in dirs {
+        let Ok(entries) = std::fs::read_dir(d.join("runs")) else {
+            continue;
+        };
+        for e in entries.flatten() {
+            let dir = e.path();
+            let Some(meta) = read_json(&dir.join("sweep_run.json")) else {
+                continue;
+            };
+            let s = read_json(&dir.join("summary.json")).unwrap_or_default();
+            let args: BTreeMap<String, String> =
+                serde_json::from_value(meta["args"].clone()).unwrap_or_default();
+            let rec = RunRecord {
+                name: meta["name"]
+                    .as_str()
+                    .map(String::from)
+                    .unwrap_or_else(|| e.file_name().to_string_lossy().into_owned()),
+                index: meta["index"].as_u64().unwrap_or(u64::MAX) as usize,
+                args,
+                status: s["status"].as_str().unwrap_or("missing").to_string(),
+                classification: s["classification"].as_str().map(String::from),
+                onset_time_s: s["onset_time_s"].as_f64(),
+                onset_speed_hz: s["onset_speed_hz"].as_f64(),
+                max_eps_c: s["max_eps_C"].as_f64(),
+                max_eps_t: s["max_eps_T"].as_f64(),
+                wall_time_s: s["wall_time_s"].as_f64(),
+                settings: s["settings"].clone(),
+            };
+            match by_name.get(&rec.name) {
+                Some(old) if old.status == "completed" || rec.status != "completed" => {}
+                _ => {
+                    by_name.insert(rec.name.clone(), rec);
+                }
+            }
+        }
+    }
+    let mut v: Vec<RunRecord> = by_name.into_values().collect();
+    v.sort_by(|a, b| a.index.cmp(&b.index).then(a.name.cmp(&b.name)));
+    v
+}
+
+fn opt(v: Option<f64>) -> String {
+    v.map_or(String::new(), |x| format!("{x:?}"))
+}
+
+/// The study table: one row per run; parameter columns are the flags any run was given (FMU
+/// parameters after the run-up flags, their values as the study gave them: SI unless they name
+/// a unit).
+pub fn write_table(records: &[RunRecord], path: &Path) -> Result<(), String> {
+    let keys = keys_in(records.iter().map(|r| &r.args));
+    let mut s = String::from("run");
+    for k in &keys {
+        let unit = short_and_unit(k).1;
+        if unit.is_empty() {
+            s.push_str(&format!(",{k}"));
+        } else {
+            s.push_str(&format!(",{k} [{unit}]"));
+        }
+    }
+    s.push_str(",status,classification,onset_time [s],onset_speed [Hz],max_eps_C [1],max_eps_T [1],wall_time [s]\n");
+    for r in records {
+        s.push_str(&r.name);
+        for k in &keys {
+            s.push(',');
+            let v = r.args.get(k).cloned().unwrap_or_default();
+            if v.contains(',') {
+                s.push_str(&format!("\"{v}\""));
+            } else {
+                s.push_str(&v);
+            }
+        }
+        s.push_str(&format!(
+            ",{},{},{},{},{},{},{}\n",
+            r.status,
+            r.classification.as_deref().unwrap_or(""),
+            opt(r.onset_time_s),
+            opt(r.onset_speed_hz),
+            opt(r.max_eps_c),
+            opt(r.max_eps_t),
+            r.wall_time_s.map_or(String::new(), |w| format!("{w:.1}"))
+        ));
+    }
+    std::fs::write(path, s).map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// `airring sweep-merge`: one table and one map from the run folders of several sweep outputs
+/// (shards), written into `out`.
+pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(PathBuf, Vec<PathBuf>, usize), String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let records = collect(dirs);
+    if records.is_empty() {
+        return Err(format!(
+            "no run folders (runs/*/sweep_run.json) in {dirs:?}"
+        ));
+    }
+    let table = out.join("study.csv");
+    write_table(&records, &table)?;
+    let maps = plot_maps(&records, out, "bifurcation_map").map_err(|e| format!("maps: {e}"))?;
+    Ok((table, maps, records.len()))
+}
