@@ -167,7 +167,7 @@ enum Command {
         #[arg(long)]
         linear: bool,
         /// Speed grid of the linear prediction, from:to:step [Hz].
-        #[arg(long, default_value = "200:2000:100")]
+        #[arg(long, default_value = "100:2000:100")]
         speeds: String,
         /// Film mesh per lobe of the linear prediction when the study sets none (default 8x2).
         #[arg(long)]

@@ -245,6 +245,7 @@ pub fn orbit(series: &RunSeries, b: Bearing, lobes: &LobeGeometry) -> Canvas {
     let (mut c, ax) = bearing_frame(
         lobes,
         &pts,
+        None,
         &format!("Orbit of journal in ring, bearing {}", b.label()),
     );
     c.polyline(
@@ -259,19 +260,38 @@ pub fn orbit(series: &RunSeries, b: Bearing, lobes: &LobeGeometry) -> Canvas {
 }
 
 /// A square frame (equal scales) of journal-in-ring displacements dx, dy [um] with the clearance
-/// circle C and the lobe contours (where the gap closes), large enough for `pts` [um] and the
-/// contours (radius up to C + dH). The caller draws its data into the returned axes.
-pub fn bearing_frame(lobes: &LobeGeometry, pts: &[(f64, f64)], title: &str) -> (Canvas, Axes) {
+/// circle C and the lobe contours (where the gap closes). The frame holds `pts` [um] and either the
+/// whole contours (radius up to C + dH) or, with `half_width_um`, that half width (the contours cut
+/// at the frame). The caller draws its data into the returned axes.
+pub fn bearing_frame(
+    lobes: &LobeGeometry,
+    pts: &[(f64, f64)],
+    half_width_um: Option<f64>,
+    title: &str,
+) -> (Canvas, Axes) {
     let contours: Vec<Vec<(f64, f64)>> = lobes
         .contours_m(60)
         .into_iter()
         .map(|l| l.into_iter().map(|(x, y)| (x * 1e6, y * 1e6)).collect())
         .collect();
-    let r = pts
+    let reach = |v: &mut dyn Iterator<Item = &(f64, f64)>| {
+        v.fold(0.0_f64, |m, (x, y)| m.max(x.abs()).max(y.abs()))
+    };
+    let r = match half_width_um {
+        Some(h) => h.max(reach(&mut pts.iter()) * 1.05),
+        None => reach(&mut pts.iter().chain(contours.iter().flatten())) * 1.05,
+    };
+    // Contour pieces inside the frame (all of them without a half width).
+    let inside = |p: &(f64, f64)| p.0.abs() <= r && p.1.abs() <= r;
+    let contours: Vec<Vec<(f64, f64)>> = contours
         .iter()
-        .chain(contours.iter().flatten())
-        .fold(0.0_f64, |m, (x, y)| m.max(x.abs()).max(y.abs()))
-        * 1.05;
+        .flat_map(|l| {
+            l.split(|p| !inside(p))
+                .filter(|seg| seg.len() > 1)
+                .map(<[(f64, f64)]>::to_vec)
+                .collect::<Vec<_>>()
+        })
+        .collect();
     let size = 560u32;
     let mut c = Canvas::new(size, size + 20);
     let ax = Axes {

@@ -183,12 +183,14 @@ pub fn locus(r: &StabilityReport, lobes: &LobeGeometry) -> Canvas {
         })
         .collect();
     let all: Vec<(f64, f64)> = loci.iter().flatten().copied().collect();
+    // Framed to the clearance circle (the lobes open far beyond it, to C + dH).
     let (mut c, ax) = bearing_frame(
         lobes,
         &all,
-        "Static equilibrium: journal locus in the ring (gravity load)",
+        Some(1.15 * lobes.c_m * 1e6),
+        "Journal locus, static equilibrium",
     );
-    for ((name, color), pts) in BEARINGS.iter().zip(&loci) {
+    for (b, ((name, color), pts)) in BEARINGS.iter().zip(&loci).enumerate() {
         c.polyline(
             ax.map_all(pts.clone()),
             *color,
@@ -197,17 +199,16 @@ pub fn locus(r: &StabilityReport, lobes: &LobeGeometry) -> Canvas {
             Role::Series,
             name,
         );
+        // Speeds at the ends: bearing C's to the right, T's to the left, so they do not overlap.
         let ends = [r.speeds.first(), r.speeds.last()];
         for (s, p) in ends.into_iter().zip([pts.first(), pts.last()]) {
             if let (Some(s), Some(&(x, y))) = (s, p) {
                 let (px, py) = ax.map(x, y);
-                c.text(
-                    px + 5.0,
-                    py + 4.0,
-                    &format!("{:.0} Hz", s.speed_hz),
-                    11.0,
-                    Anchor::Start,
-                );
+                let label = format!("{:.0} Hz", s.speed_hz);
+                match b {
+                    0 => c.text(px + 6.0, py + 4.0, &label, 11.0, Anchor::Start),
+                    _ => c.text(px - 6.0, py + 4.0, &label, 11.0, Anchor::End),
+                }
             }
         }
     }
