@@ -125,6 +125,32 @@ fn smoke_study_runs_resumes_and_shards_merge() {
     assert!(ok, "{err}");
     assert_eq!(table(&merged.join("study.csv")), rows);
     assert!(merged.join("bifurcation_map.png").exists());
+
+    // Shards sharing one output folder (a Slurm array on a shared file system), then merged there.
+    let shared = base.join("shared");
+    for shard in ["1/2", "2/2"] {
+        let (ok, err) = airring(&[
+            "sweep",
+            "studies/smoke.toml",
+            "--out",
+            shared.to_str().unwrap(),
+            "--shard",
+            shard,
+        ]);
+        assert!(ok, "{err}");
+        assert!(err.contains("2 runs, 0 already completed"), "{err}");
+    }
+    let (ok, err) = airring(&["sweep-merge", shared.to_str().unwrap()]);
+    assert!(ok, "{err}");
+    assert_eq!(table(&shared.join("study.csv")), rows);
+
+    // A changed flag is a different run-up: completed runs with other flags run again.
+    let changed = base.join("changed.toml");
+    let text = std::fs::read_to_string(root().join("studies/smoke.toml")).unwrap();
+    std::fs::write(&changed, text.replace("stop = 0.01", "stop = 0.012")).unwrap();
+    let (ok, err) = airring(&["sweep", changed.to_str().unwrap(), "--out", full_s]);
+    assert!(ok, "{err}");
+    assert!(err.contains("4 runs, 0 already completed, 4 to run"), "{err}");
     let _ = std::fs::remove_dir_all(&base);
 }
 

@@ -78,6 +78,36 @@ fn mark_threshold(c: &mut Canvas, ax: &Axes, r: &StabilityReport) {
     }
 }
 
+/// One line per mode rank of `value` vs speed (broken where a speed lacks the rank), the
+/// threshold marker and the legend.
+fn mode_lines(
+    c: &mut Canvas,
+    ax: &Axes,
+    r: &StabilityReport,
+    value: impl Fn(&super::campbell::ModeResult) -> f64,
+) {
+    let names: Vec<String> = (0..n_modes(r)).map(|k| format!("mode {}", k + 1)).collect();
+    for (k, name) in names.iter().enumerate() {
+        for seg in rank_segments(r, k, &value) {
+            c.polyline(
+                ax.map_all(seg),
+                PALETTE[k % 8],
+                1.6,
+                false,
+                Role::Series,
+                name,
+            );
+        }
+    }
+    mark_threshold(c, ax, r);
+    let legend: Vec<(&str, Rgb)> = names
+        .iter()
+        .enumerate()
+        .map(|(k, n)| (n.as_str(), PALETTE[k % 8]))
+        .collect();
+    ax.legend(c, &legend);
+}
+
 /// Natural frequencies of the damped modes vs speed, with the 1x (synchronous) line.
 pub fn campbell(r: &StabilityReport) -> Canvas {
     let speeds: Vec<f64> = r.speeds.iter().map(|s| s.speed_hz).collect();
@@ -103,23 +133,7 @@ pub fn campbell(r: &StabilityReport) -> Canvas {
         Role::Reference,
         "1x",
     );
-    let mut legend = vec![];
-    let names: Vec<String> = (0..n_modes(r)).map(|k| format!("mode {}", k + 1)).collect();
-    for k in 0..n_modes(r) {
-        for seg in rank_segments(r, k, |m| m.freq_hz) {
-            c.polyline(
-                ax.map_all(seg),
-                PALETTE[k % 8],
-                1.6,
-                false,
-                Role::Series,
-                &names[k],
-            );
-        }
-        legend.push((names[k].as_str(), PALETTE[k % 8]));
-    }
-    mark_threshold(&mut c, &ax, r);
-    ax.legend(&mut c, &legend);
+    mode_lines(&mut c, &ax, r, |m| m.freq_hz);
     c
 }
 
@@ -149,23 +163,7 @@ pub fn damping(r: &StabilityReport) -> Canvas {
         Role::Reference,
         "zero",
     );
-    let mut legend = vec![];
-    let names: Vec<String> = (0..n_modes(r)).map(|k| format!("mode {}", k + 1)).collect();
-    for k in 0..n_modes(r) {
-        for seg in rank_segments(r, k, |m| (100.0 * m.damping_ratio).min(zr.1)) {
-            c.polyline(
-                ax.map_all(seg),
-                PALETTE[k % 8],
-                1.6,
-                false,
-                Role::Series,
-                &names[k],
-            );
-        }
-        legend.push((names[k].as_str(), PALETTE[k % 8]));
-    }
-    mark_threshold(&mut c, &ax, r);
-    ax.legend(&mut c, &legend);
+    mode_lines(&mut c, &ax, r, |m| (100.0 * m.damping_ratio).min(zr.1));
     c
 }
 
