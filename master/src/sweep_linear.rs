@@ -10,7 +10,7 @@
 
 use crate::runup::RunupSettings;
 use crate::stability::{self, StabilityReport};
-use crate::sweep::{plot_maps, write_table, RunRecord, Study};
+use crate::sweep::{plot_grid_maps, plot_maps, write_table, RunRecord, Study};
 use std::collections::BTreeSet;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -211,8 +211,12 @@ pub fn predict(
     write_csv(&preds, &out.join("study_linear.csv"))?;
     // The run table's format too, so `study.csv` readers can take the prediction as is.
     write_table(&records, &out.join("study_linear_table.csv"))?;
-    let maps = plot_maps(&records, out, "bifurcation_map_linear")
+    let mut maps = plot_maps(&records, out, "bifurcation_map_linear")
         .map_err(|e| format!("{}: {e}", out.display()))?;
+    maps.extend(
+        plot_grid_maps(&records, study, out, "bifurcation_map_linear")
+            .map_err(|e| format!("{}: {e}", out.display()))?,
+    );
     if !quiet {
         eprintln!(
             "linear prediction of {} points in {:.1} s",
@@ -345,6 +349,7 @@ mod tests {
                     index,
                     name: q.name.clone(),
                     args: BTreeMap::new(),
+                    grids: vec![],
                 })
                 .collect(),
         };

@@ -150,7 +150,10 @@ fn smoke_study_runs_resumes_and_shards_merge() {
     std::fs::write(&changed, text.replace("stop = 0.01", "stop = 0.012")).unwrap();
     let (ok, err) = airring(&["sweep", changed.to_str().unwrap(), "--out", full_s]);
     assert!(ok, "{err}");
-    assert!(err.contains("4 runs, 0 already completed, 4 to run"), "{err}");
+    assert!(
+        err.contains("4 runs, 0 already completed, 4 to run"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&base);
 }
 
@@ -462,5 +465,59 @@ fn set_flags_reach_the_fmus() {
         dir.to_str().unwrap(),
     ]);
     assert!(!ok && err.contains("no parameter 'bogus'"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A study of several grids also gets a map per grid that varies another parameter than c (the
+/// paper's step-height study: dH across, d upwards), from the study file the sweep leaves in its
+/// folder; grids that vary c are in the main map only.
+#[test]
+fn a_grid_over_another_parameter_gets_its_own_map() {
+    let dir = tmp("gridmaps");
+    std::fs::write(
+        dir.join("study.toml"),
+        "[[grid]]\nname = \"cases\"\nclearance = 15\ndh = 30\nc = [500, 1000]\nd = [50]\n\
+         [[grid]]\nname = \"step height\"\nclearance = 15\nc = 1000\ndh = [0, 30]\nd = [50, 500]\n",
+    )
+    .unwrap();
+    fake(&dir, 0, 500.0, 50.0, 30.0, "stable", None);
+    fake(&dir, 1, 1000.0, 50.0, 30.0, "path1", Some(864.0));
+    fake(&dir, 2, 1000.0, 50.0, 0.0, "unstable_low_speed", Some(7.0));
+    fake(&dir, 3, 1000.0, 500.0, 0.0, "unstable_low_speed", Some(8.0));
+    fake(&dir, 4, 1000.0, 500.0, 30.0, "stable", None);
+    let (_, maps, n) = master::sweep::merge(std::slice::from_ref(&dir), &dir).unwrap();
+    assert_eq!(n, 5);
+    let names: Vec<String> = maps
+        .iter()
+        .map(|m| m.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "bifurcation_map.svg",
+            "bifurcation_map.png",
+            "bifurcation_map_step_height.svg",
+            "bifurcation_map_step_height.png"
+        ]
+    );
+    let svg = std::fs::read_to_string(dir.join("bifurcation_map_step_height.svg")).unwrap();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let at = |label: &str| -> (f64, f64) {
+        let n = doc
+            .descendants()
+            .find(|n| n.has_tag_name("text") && n.text() == Some(label))
+            .unwrap_or_else(|| panic!("{label} in {svg}"));
+        let xy = |a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+        (xy("x"), xy("y"))
+    };
+    at("dH [um]");
+    // One panel: dH = 0 left of dH = 30 in the d = 50 row, d = 500 above d = 50.
+    let (dh0_d50, dh30_d50, dh0_d500) = (at("7 Hz"), at("864 Hz"), at("8 Hz"));
+    assert!(dh0_d50.0 < dh30_d50.0 && (dh0_d50.1 - dh30_d50.1).abs() < 1e-9);
+    assert!((dh0_d50.0 - dh0_d500.0).abs() < 1e-9 && dh0_d500.1 < dh0_d50.1);
+    assert!(
+        svg.contains(">c = 1000 N/mm<") || svg.contains("c = 1000 N/mm"),
+        "common flags"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,7 +1,7 @@
 //! Bifurcation maps as the paper's Fig. 17, drawn on the plot canvas (SVG + PNG).
 
 use super::study::{keys_in, short_and_unit, Params, NUMERICS};
-use super::RunRecord;
+use super::{RunRecord, Study};
 use crate::plot::canvas::{Anchor, Canvas, Item, Rgb};
 use std::path::{Path, PathBuf};
 
@@ -85,13 +85,17 @@ fn fmt_num(v: f64) -> String {
     }
 }
 
-/// The map panels: runs grouped by every flag except c, d and the numerical settings (in KEYS
-/// order), in the order of first appearance; and the flags that make up the key. Cells of one
-/// panel may come from runs with different numerics (the table lists them).
-fn map_panels(records: &[RunRecord]) -> (Vec<String>, Vec<(Params, Vec<&RunRecord>)>) {
+/// The map panels: runs grouped by every flag except the one `across` (c in the paper's maps), d
+/// and the numerical settings (in KEYS order), in the order of first appearance; and the flags
+/// that make up the key. Cells of one panel may come from runs with different numerics (the
+/// table lists them).
+fn map_panels<'a>(
+    records: &'a [RunRecord],
+    across: &str,
+) -> (Vec<String>, Vec<(Params, Vec<&'a RunRecord>)>) {
     let panel_keys: Vec<String> = keys_in(records.iter().map(|r| &r.args))
         .into_iter()
-        .filter(|k| k != "c" && k != "d" && !NUMERICS.contains(&k.as_str()))
+        .filter(|k| k != across && k != "d" && !NUMERICS.contains(&k.as_str()))
         .collect();
     let key_of = |r: &RunRecord| -> Params {
         panel_keys
@@ -114,7 +118,81 @@ fn map_panels(records: &[RunRecord]) -> (Vec<String>, Vec<(Params, Vec<&RunRecor
 /// c and d (the (C, dH) cases), c [N/mm] across, d [N s/m] upwards, each cell coloured by the run's
 /// class and labelled with the onset speed. Writes `<stem>.svg` and `<stem>.png` into `dir`.
 pub fn plot_maps(records: &[RunRecord], dir: &Path, stem: &str) -> std::io::Result<Vec<PathBuf>> {
-    let (panel_keys, panels) = map_panels(records);
+    plot_maps_across(records, dir, stem, "c")
+}
+
+/// Further maps for a study of several grids: one per grid whose points vary a parameter other
+/// than c across d (the paper's step-height study: dH across, d upwards), written as
+/// `<stem>_<grid name>.svg/png`. Grids that vary c are in the main map already.
+pub fn plot_grid_maps(
+    records: &[RunRecord],
+    study: &Study,
+    dir: &Path,
+    stem: &str,
+) -> std::io::Result<Vec<PathBuf>> {
+    let mut names: Vec<&str> = study
+        .runs
+        .iter()
+        .flat_map(|r| r.grids.iter().map(String::as_str))
+        .collect();
+    names.sort();
+    names.dedup();
+    let mut out = Vec::new();
+    if names.len() < 2 {
+        return Ok(out);
+    }
+    for g in names {
+        let recs: Vec<RunRecord> = records
+            .iter()
+            .filter(|r| {
+                study
+                    .runs
+                    .iter()
+                    .any(|s| s.name == r.name && s.grids.iter().any(|x| x == g))
+            })
+            .cloned()
+            .collect();
+        let varying: Vec<String> = keys_in(recs.iter().map(|r| &r.args))
+            .into_iter()
+            .filter(|k| k != "d" && !NUMERICS.contains(&k.as_str()))
+            .filter(|k| {
+                let first = recs.first().and_then(|r| r.args.get(k));
+                recs.iter().any(|r| r.args.get(k) != first)
+            })
+            .collect();
+        // The innermost varied parameter across (the grid's nesting order), the others panels.
+        let Some(across) = varying.last() else {
+            continue;
+        };
+        if varying.iter().any(|k| k == "c") {
+            continue;
+        }
+        let clean: String = g
+            .chars()
+            .map(|c| if c.is_ascii_alphanumeric() { c } else { '_' })
+            .collect();
+        out.extend(plot_maps_across(
+            &recs,
+            dir,
+            &format!("{stem}_{clean}"),
+            across,
+        )?);
+    }
+    Ok(out)
+}
+
+/// The maps with the parameter `across` on the horizontal axis and d upwards.
+fn plot_maps_across(
+    records: &[RunRecord],
+    dir: &Path,
+    stem: &str,
+    across: &str,
+) -> std::io::Result<Vec<PathBuf>> {
+    let (panel_keys, panels) = map_panels(records, across);
+    let x_label = match short_and_unit(across) {
+        (short, "") => short,
+        (short, unit) => format!("{short} [{unit}]"),
+    };
     // Title: the panel parameters that differ between panels (all of them if only one panel).
     let varying: Vec<String> = panel_keys
         .iter()
@@ -137,7 +215,7 @@ pub fn plot_maps(records: &[RunRecord], dir: &Path, stem: &str) -> std::io::Resu
         .iter()
         .map(|(_, rs)| {
             (
-                sorted_unique(rs.iter().filter_map(|r| r.param("c")).collect()),
+                sorted_unique(rs.iter().filter_map(|r| r.param(across)).collect()),
                 sorted_unique(rs.iter().filter_map(|r| r.param("d")).collect()),
             )
         })
@@ -182,7 +260,7 @@ pub fn plot_maps(records: &[RunRecord], dir: &Path, stem: &str) -> std::io::Resu
         let tx = (gx + 0.5 * gw).max(ox + half_title + 4.0);
         c.text(tx, oy + 22.0, &title, 14.0, Anchor::Middle);
         for r in rs {
-            let (Some(cv), Some(dv)) = (r.param("c"), r.param("d")) else {
+            let (Some(cv), Some(dv)) = (r.param(across), r.param("d")) else {
                 continue;
             };
             let (Some(ic), Some(id)) = (
@@ -239,7 +317,7 @@ pub fn plot_maps(records: &[RunRecord], dir: &Path, stem: &str) -> std::io::Resu
         c.text(
             gx + 0.5 * gw,
             gy + gh + 36.0,
-            "c [N/mm]",
+            &x_label,
             13.0,
             Anchor::Middle,
         );
@@ -265,7 +343,7 @@ pub fn plot_maps(records: &[RunRecord], dir: &Path, stem: &str) -> std::io::Resu
     // The flags every run shares, as a footnote.
     let common: Vec<String> = keys_in(records.iter().map(|r| &r.args))
         .into_iter()
-        .filter(|k| k != "c" && k != "d" && !varying.iter().any(|v| v == k))
+        .filter(|k| k != across && k != "d" && !varying.iter().any(|v| v == k))
         .filter(|k| !(varying.is_empty() && (k == "clearance" || k == "dh")))
         .filter_map(|k| {
             let first = records.first()?.args.get(&k)?;
@@ -350,7 +428,7 @@ mod tests {
             rec("1000", Some("rotor"), "30"),
             rec("500", Some("film"), "20"),
         ];
-        let (keys, panels) = map_panels(&records);
+        let (keys, panels) = map_panels(&records, "c");
         assert!(!keys.iter().any(|k| k == "contact"));
         let sizes: Vec<usize> = panels.iter().map(|p| p.1.len()).collect();
         assert_eq!(sizes, [2, 1], "{panels:?}");

@@ -28,7 +28,7 @@ mod map;
 mod study;
 mod table;
 
-pub use map::{plot_maps, LEGEND};
+pub use map::{plot_grid_maps, plot_maps, LEGEND};
 pub use study::{
     is_fmu_key, parse_shard, plan_json_lines, run_name, runup_args, RunSpec, Study, KEYS,
 };
@@ -377,6 +377,9 @@ pub fn sweep(study: &Study, study_text: &str, opts: &SweepOptions) -> Result<Swe
     report.table = opts.out.join(format!("{table}.csv"));
     write_table(&records, &report.table)?;
     report.maps = plot_maps(&records, &opts.out, &map).map_err(|e| format!("maps: {e}"))?;
+    report.maps.extend(
+        plot_grid_maps(&records, study, &opts.out, &map).map_err(|e| format!("maps: {e}"))?,
+    );
     if opts.stop.load(Ordering::Relaxed) {
         eprintln!("sweep interrupted: run the same command again to continue");
     }

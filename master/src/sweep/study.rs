@@ -103,6 +103,8 @@ pub struct RunSpec {
     pub index: usize,
     pub name: String,
     pub args: BTreeMap<String, String>,
+    /// The grids that list this point (their `name`, or "grid N"): one run may serve several.
+    pub grids: Vec<String>,
 }
 
 #[derive(Debug, Clone)]
@@ -204,6 +206,11 @@ impl Study {
             let t = g
                 .as_table()
                 .ok_or_else(|| err(format!("{where_} must be a table")))?;
+            let grid_name = match t.get("name") {
+                Some(toml::Value::String(n)) => n.clone(),
+                Some(_) => return Err(err(format!("{where_}: 'name' must be a string"))),
+                None => format!("grid{}", gi + 1),
+            };
             // Axes of the product: each a list of alternatives, each alternative a set of (key, value).
             let mut axes: Vec<((usize, String), Vec<Params>)> = Vec::new();
             // Every key on one axis only: a key in two axes would silently overwrite itself.
@@ -297,18 +304,27 @@ impl Study {
                     varied.insert(k, v);
                 }
                 let name = run_name(&varied);
-                match runs.iter().find(|r| r.name == name) {
-                    Some(r) if r.args == args => continue, // listed twice: run once
+                match runs.iter_mut().find(|r| r.name == name) {
+                    // Listed twice: run once, in both grids.
+                    Some(r) if r.args == args => {
+                        if !r.grids.contains(&grid_name) {
+                            r.grids.push(grid_name.clone());
+                        }
+                    }
                     Some(_) => {
                         return Err(err(format!(
                             "run '{name}' appears twice with different flags"
                         )))
                     }
-                    None => runs.push(RunSpec {
-                        index: runs.len(),
-                        name,
-                        args,
-                    }),
+                    None => {
+                        let index = runs.len();
+                        runs.push(RunSpec {
+                            index,
+                            name,
+                            args,
+                            grids: vec![grid_name.clone()],
+                        })
+                    }
                 }
             }
         }
@@ -452,6 +468,28 @@ d = [50]
             .contains("'bogus' is not a run-up flag"));
         assert_eq!(parse_shard("2/3"), Ok((2, 3)));
         assert!(parse_shard("0/3").is_err() && parse_shard("4/3").is_err());
+    }
+
+    /// The paper's Section 4 study: 44 grid points, 42 distinct run-ups; the step-height study's
+    /// dH = 30 um points are case-2 runs and belong to both grids.
+    #[test]
+    fn paper_section4_study_points_and_grids() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../studies/paper_section4.toml");
+        let s = Study::load(&path).unwrap();
+        assert_eq!(s.runs.len(), 42);
+        let grids = |name: &str| {
+            s.runs
+                .iter()
+                .find(|r| r.name == name)
+                .unwrap()
+                .grids
+                .clone()
+        };
+        assert_eq!(grids("C15_dH30_c1000_d50"), ["cases", "step_height"]);
+        assert_eq!(grids("C15_dH0_c1000_d500"), ["step_height"]);
+        assert_eq!(grids("C30_dH60_c500_d50"), ["cases"]);
+        let listed: usize = s.runs.iter().map(|r| r.grids.len()).sum();
+        assert_eq!(listed, 44);
     }
 
     /// Any FMU parameter can be a study key: dotted (`film.eta = [...]`) or quoted

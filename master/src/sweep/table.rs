@@ -2,7 +2,7 @@
 //! the folders of several shards.
 
 use super::study::{is_fmu_key, keys_in, short_and_unit, KEYS};
-use super::{plot_maps, read_json};
+use super::{plot_grid_maps, plot_maps, read_json, Study};
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
@@ -137,6 +137,17 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(PathBuf, Vec<PathBuf>, usi
     }
     let table = out.join("study.csv");
     write_table(&records, &table)?;
-    let maps = plot_maps(&records, out, "bifurcation_map").map_err(|e| format!("maps: {e}"))?;
+    let mut maps = plot_maps(&records, out, "bifurcation_map").map_err(|e| format!("maps: {e}"))?;
+    // The study file a sweep leaves in its folder tells which grid each run belongs to.
+    let study = dirs
+        .iter()
+        .map(|d| d.join("study.toml"))
+        .find_map(|p| Study::load(&p).ok());
+    if let Some(study) = study {
+        maps.extend(
+            plot_grid_maps(&records, &study, out, "bifurcation_map")
+                .map_err(|e| format!("maps: {e}"))?,
+        );
+    }
     Ok((table, maps, records.len()))
 }
