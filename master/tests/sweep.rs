@@ -144,6 +144,17 @@ fn smoke_study_runs_resumes_and_shards_merge() {
     assert!(ok, "{err}");
     assert_eq!(table(&shared.join("study.csv")), rows);
 
+    // A run made with other run-up defaults (an older airring) runs again.
+    let meta_path = full.join("runs/C20_dH40_c500_d50/sweep_run.json");
+    let mut meta: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&meta_path).unwrap()).unwrap();
+    assert_eq!(meta["defaults"]["macro_step_us"], 20.0, "{meta}");
+    meta["defaults"]["macro_step_us"] = 10.0.into();
+    std::fs::write(&meta_path, meta.to_string()).unwrap();
+    let (ok, err) = airring(&["sweep", "studies/smoke.toml", "--out", full_s]);
+    assert!(ok, "{err}");
+    assert!(err.contains("3 already completed, 1 to run"), "{err}");
+
     // A changed flag is a different run-up: completed runs with other flags run again.
     let changed = base.join("changed.toml");
     let text = std::fs::read_to_string(root().join("studies/smoke.toml")).unwrap();

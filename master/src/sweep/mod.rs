@@ -87,13 +87,32 @@ pub(super) fn read_json(p: &Path) -> Option<serde_json::Value> {
     serde_json::from_str(&std::fs::read_to_string(p).ok()?).ok()
 }
 
-/// True if `dir` holds a completed run with exactly these flags.
+/// The run-up settings a run gets from its preset and the defaults where the study sets nothing
+/// (macro step, step control, film tolerances, contact side, disturbance, mesh, ...): recorded in
+/// each run's sweep_run.json, so that a run made with other defaults (an older airring) is run
+/// again instead of being mixed into the map with different numerics.
+fn defaults_of(args: &BTreeMap<String, String>) -> serde_json::Value {
+    let preset = args.get("preset").map_or("path1", String::as_str);
+    crate::runup::RunupSettings::preset(preset)
+        .ok()
+        .and_then(|s| serde_json::to_value(s).ok())
+        .unwrap_or_default()
+}
+
+/// True if the run folder's sweep_run.json has these flags and these defaults (folders from
+/// before the defaults were recorded count as the same).
+fn same_run(dir: &Path, args: &BTreeMap<String, String>) -> bool {
+    read_json(&dir.join("sweep_run.json")).is_some_and(|r| {
+        r["args"] == serde_json::to_value(args).unwrap_or_default()
+            && r.get("defaults").is_none_or(|d| *d == defaults_of(args))
+    })
+}
+
+/// True if `dir` holds a completed run with exactly these flags and defaults.
 fn is_done(dir: &Path, args: &BTreeMap<String, String>) -> bool {
     let done = read_json(&dir.join("summary.json"))
         .is_some_and(|s| s["status"].as_str() == Some("completed"));
-    let same = read_json(&dir.join("sweep_run.json"))
-        .is_some_and(|r| r["args"] == serde_json::to_value(args).unwrap_or_default());
-    done && same
+    done && same_run(dir, args)
 }
 
 /// True if `dir` holds an interrupted run (Ctrl-C, SIGTERM of a batch system's time limit)
@@ -102,9 +121,7 @@ fn is_done(dir: &Path, args: &BTreeMap<String, String>) -> bool {
 fn is_resumable(dir: &Path, args: &BTreeMap<String, String>) -> bool {
     let interrupted = read_json(&dir.join("summary.json"))
         .is_some_and(|s| s["status"].as_str() == Some("interrupted"));
-    let same = read_json(&dir.join("sweep_run.json"))
-        .is_some_and(|r| r["args"] == serde_json::to_value(args).unwrap_or_default());
-    interrupted && same && dir.join("checkpoint/master.json").exists()
+    interrupted && same_run(dir, args) && dir.join("checkpoint/master.json").exists()
 }
 
 struct Running {
@@ -142,7 +159,10 @@ fn start_run(spec: &RunSpec, opts: &SweepOptions) -> Result<Running, String> {
     } else {
         // A stale summary must not count as this run's result.
         let _ = std::fs::remove_file(dir.join("summary.json"));
-        let meta = serde_json::json!({ "name": spec.name, "index": spec.index, "args": spec.args });
+        let meta = serde_json::json!({
+            "name": spec.name, "index": spec.index, "args": spec.args,
+            "defaults": defaults_of(&spec.args),
+        });
         std::fs::write(
             dir.join("sweep_run.json"),
             serde_json::to_string_pretty(&meta).expect("json"),
