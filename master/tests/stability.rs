@@ -196,4 +196,9 @@ fn linear_model_reads_parameters_as_the_fmus_do() {
     assert!(close(films[0].eta_pa_s, 2e-5) && close(films[1].eta_pa_s, 2e-5));
     s.fmu_parameters = vec![("film.viscosity".into(), "1".into())];
     assert!(params_of(&s).unwrap_err().contains("viscosity"));
+    // A ring without mount stiffness has no static position: a clear error, not NaN positions.
+    s.fmu_parameters.clear();
+    s.c_n_per_mm = 0.0;
+    let e = analyse(&s, &[500.0]).unwrap_err();
+    assert!(e.contains("c > 0"), "{e}");
 }

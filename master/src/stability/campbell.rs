@@ -204,5 +204,15 @@ pub fn system_modes(
         }
     }
     out.sort_by(|a, b| a.freq_hz.total_cmp(&b.freq_hz));
+    // A real eigenvalue at round-off distance from 0 is neutral, not a divergence.
+    let scale = out
+        .iter()
+        .map(|m| (TAU * m.freq_hz).hypot(m.growth_per_s))
+        .chain(real.iter().map(|r| r.abs()))
+        .fold(0.0, f64::max);
+    let real = real
+        .into_iter()
+        .map(|r| if r.abs() <= 1e-9 * scale { 0.0 } else { r })
+        .collect();
     Ok((out, real))
 }

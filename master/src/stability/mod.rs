@@ -169,6 +169,13 @@ pub fn analyse(s: &RunupSettings, speeds_hz: &[f64]) -> Result<StabilityReport, 
     let t0 = std::time::Instant::now();
     let (rotor, films) = params_of(s)?;
     rotor.validate().map_err(|e| format!("rotor: {e}"))?;
+    if !(rotor.c_c_n_m > 0.0 && rotor.c_t_n_m > 0.0) {
+        // Without a mount stiffness the rings have no static position to linearize about.
+        return Err(format!(
+            "the linear analysis needs ring mount stiffnesses c > 0 (c_C = {} N/m, c_T = {} N/m)",
+            rotor.c_c_n_m, rotor.c_t_n_m
+        ));
+    }
     for (f, side) in films.iter().zip(["C", "T"]) {
         f.validate().map_err(|e| format!("film_{side}: {e}"))?;
     }
