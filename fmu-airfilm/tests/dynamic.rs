@@ -4,6 +4,8 @@
 //! of the force by projection after the start-up transient has died out).
 
 use fmu_airfilm::dynamic::{dynamic_coefficients, FilmLinearization};
+use fmu_airfilm::geometry::min_gap_m;
+use fmu_airfilm::steady::steady_from;
 use fmu_airfilm::{static_stiffness, steady_state, AirFilm, BearingParams, JournalState};
 use std::f64::consts::TAU;
 
@@ -87,6 +89,89 @@ fn transient_first_harmonic(
     // trigonometric polynomials of degree < N over whole periods.
     let s = 2.0 / n_proj as f64 / a_m;
     [(acc[0].0 * s, acc[0].1 * s), (acc[1].0 * s, acc[1].1 * s)]
+}
+
+/// The journal displaced along -y (towards the bore) until the minimum gap is `h_rel` C.
+fn journal_at_gap(prm: &BearingParams, h_rel: f64) -> JournalState {
+    let (mut lo, mut hi) = (0.0, 2.0 * prm.c_m);
+    for _ in 0..100 {
+        let mid = 0.5 * (lo + hi);
+        let h = min_gap_m(prm, &JournalState::at(0.0, -mid, OMEGA));
+        if h > h_rel * prm.c_m {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    JournalState::at(0.0, -0.5 * (lo + hi), OMEGA)
+}
+
+/// The contact branch: the journal just outside the contact band (min gap 0.045 C > h_con =
+/// 0.04 C) and inside it (0.035 C: the contact penalty carries ~2 kN and its stiffness is added
+/// to the film's). K(nu = 0) must equal the static stiffness of steady states with the contact
+/// force in them (central differences of 2e-3 C). Deeper (min gap <= 0.03 C at 1000 Hz on this
+/// mesh) the steady solver does not converge, so the floored-gap branch (h < 0.02 C) is not
+/// reached by this comparison.
+/// Static stiffness by central differences of steady states with step `step_rel` C, each
+/// warm-started from the steady state at `j` (as `static_stiffness` does; from ambient the
+/// pseudo-time schedule does not converge this close to contact).
+fn fd_stiffness(prm: &BearingParams, j: JournalState, step_rel: f64) -> [[f64; 2]; 2] {
+    let base = steady_state(prm, j).unwrap();
+    let d = step_rel * prm.c_m;
+    let mut k = [[0.0; 2]; 2];
+    for dir in 0..2 {
+        let f = |sign: f64| {
+            let mut js = j;
+            if dir == 0 {
+                js.dx_m += sign * d;
+            } else {
+                js.dy_m += sign * d;
+            }
+            let o = steady_from(prm, base.mesh.clone(), js, base.p_rel.clone(), None)
+                .unwrap()
+                .outputs;
+            [o.fx_n, o.fy_n]
+        };
+        let (p, m) = (f(1.0), f(-1.0));
+        for i in 0..2 {
+            k[i][dir] = -(p[i] - m[i]) / (2.0 * d);
+        }
+    }
+    k
+}
+
+#[test]
+fn k_at_zero_frequency_equals_static_stiffness_in_contact() {
+    let prm = BearingParams {
+        n_elem_phi: 10,
+        n_elem_z: 4,
+        ..BearingParams::paper()
+    };
+    assert!(prm.contact_in_force);
+    for h_rel in [0.045, 0.035] {
+        let j = journal_at_gap(&prm, h_rel);
+        let (k0, _) = dynamic_coefficients(&prm, j, 0.0).unwrap();
+        let scale = k0.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
+        let err = |ks: [[f64; 2]; 2]| {
+            (0..4).fold(0.0f64, |w, n| {
+                w.max(rel(k0[n / 2][n % 2] - ks[n / 2][n % 2], scale))
+            })
+        };
+        // Central differences converge to K(0) as step^2: a defect in the linearization (a
+        // missing contact or film term) would leave a step-independent difference instead.
+        let (coarse, fine) = (
+            err(fd_stiffness(&prm, j, 2e-3)),
+            err(fd_stiffness(&prm, j, 5e-4)),
+        );
+        println!(
+            "min gap {h_rel} C (eps {:.3}): K(0) {k0:?} N/m; |K(0) - K_fd| / max|K| = {coarse:.2e} (step 2e-3 C), {fine:.2e} (5e-4 C)",
+            j.dy_m.abs() / prm.c_m
+        );
+        assert!(
+            fine < 1e-4 && fine < 0.2 * coarse,
+            "min gap {h_rel} C: {coarse:e} -> {fine:e}"
+        );
+    }
 }
 
 #[test]
