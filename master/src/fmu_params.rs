@@ -1,4 +1,4 @@
-//! FMU parameters by name (`--set film.eta="1.9e-5 Pa s"`, study keys such as `rotor.m`), checked
+//! FMU parameters by name (`--set "film.eta=1.9e-5 Pa.s"`, study keys such as `rotor.m`), checked
 //! and converted in-process against the FMUs' own variable tables, the tables the shipped
 //! modelDescription.xml files are generated from. The run-up writes them into its system file;
 //! the linear stability analysis applies them to the same parameter mapping the FMUs use

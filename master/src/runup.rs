@@ -45,7 +45,7 @@ pub struct RunupSettings {
     /// step). See docs/convergence.md.
     pub contact: ContactSide,
     /// Further FMU parameters (`--set`, study keys with a dot): (PREFIX.NAME, value text), e.g.
-    /// ("film.eta", "1.9e-5 Pa s"); applied after, and in place of, the parameters above
+    /// ("film.eta", "1.9e-5 Pa.s"); applied after, and in place of, the parameters above
     /// (`crate::fmu_params`).
     pub fmu_parameters: Vec<(String, String)>,
 }
