@@ -218,12 +218,13 @@ pub fn parse_set_flags(flags: &[String]) -> Result<Vec<(String, String)>, String
 /// start values, then `parameters` as (name, TOML literal), e.g. a run-up's
 /// `RunupSettings::instance_parameters`.
 pub fn store_for(inst: &str, parameters: &[(String, String)]) -> Result<Store, String> {
-    let target = if inst == "rotor" {
-        Target::Rotor
+    // Both films share one variable table: any film target gives it.
+    let info = if inst == "rotor" {
+        RotorFmu::info()
     } else {
-        Target::FilmC
+        AirFilmFmu::info()
     };
-    let mut store = Store::from_info(&target.info());
+    let mut store = Store::from_info(&info);
     for (name, literal) in parameters {
         let text = literal.trim_matches('"');
         FmuParameter::parse(&format!("{inst}.{name}"), text)?.apply(&mut store);

@@ -168,6 +168,16 @@ fn smoke_study_runs_resumes_and_shards_merge() {
     let _ = std::fs::remove_dir_all(&base);
 }
 
+/// Position (x, y) of the SVG text element that reads `label`.
+fn text_at(doc: &roxmltree::Document, label: &str) -> (f64, f64) {
+    let n = doc
+        .descendants()
+        .find(|n| n.has_tag_name("text") && n.text() == Some(label))
+        .unwrap_or_else(|| panic!("no text '{label}' in the map"));
+    let xy = |a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+    (xy("x"), xy("y"))
+}
+
 /// A fake run folder as a sweep leaves it.
 fn fake(dir: &Path, index: usize, c: f64, d: f64, dh: f64, class: &str, onset: Option<f64>) {
     let name = format!("C15_dH{dh}_c{c}_d{d}");
@@ -239,14 +249,7 @@ fn maps_mark_every_class_with_onset_speed_per_case() {
     }
     // Cells sit where their c and d put them: c across (left to right), d upwards.
     let doc = roxmltree::Document::parse(&svg).unwrap();
-    let at = |label: &str| -> (f64, f64) {
-        let n = doc
-            .descendants()
-            .find(|n| n.has_tag_name("text") && n.text() == Some(label))
-            .unwrap_or_else(|| panic!("{label}"));
-        let xy = |a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
-        (xy("x"), xy("y"))
-    };
+    let at = |label: &str| text_at(&doc, label);
     let (c500_d500, c1000_d50, c1000_d500, c1500_d50) =
         (at("1234 Hz"), at("900 Hz"), at("700 Hz"), at("150 Hz"));
     assert!(
@@ -513,14 +516,7 @@ fn a_grid_over_another_parameter_gets_its_own_map() {
     );
     let svg = std::fs::read_to_string(dir.join("bifurcation_map_step_height.svg")).unwrap();
     let doc = roxmltree::Document::parse(&svg).unwrap();
-    let at = |label: &str| -> (f64, f64) {
-        let n = doc
-            .descendants()
-            .find(|n| n.has_tag_name("text") && n.text() == Some(label))
-            .unwrap_or_else(|| panic!("{label} in {svg}"));
-        let xy = |a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
-        (xy("x"), xy("y"))
-    };
+    let at = |label: &str| text_at(&doc, label);
     at("dH [um]");
     // One panel: dH = 0 left of dH = 30 in the d = 50 row, d = 500 above d = 50.
     let (dh0_d50, dh30_d50, dh0_d500) = (at("7 Hz"), at("864 Hz"), at("8 Hz"));
