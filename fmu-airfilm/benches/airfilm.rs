@@ -16,10 +16,12 @@ fn bench_contact(prm: &BearingParams) {
     let th = 270f64.to_radians();
     let at = |r: f64| JournalState::at(r * th.cos(), r * th.sin(), 0.0);
     // The eccentricity with a minimum gap of 0.95 h_con (bisection).
-    let (mut lo, mut hi) = (0.0, 3.0 * prm.c_m);
+    let (mut lo, mut hi) = (0.0, 3.0 * prm.bore.c_m);
     for _ in 0..100 {
         let mid = 0.5 * (lo + hi);
-        if fmu_airfilm::geometry::min_gap_m(prm, &at(mid)) > 0.95 * prm.h_con_rel * prm.c_m {
+        if fmu_airfilm::geometry::min_gap_m(&prm.bore, &at(mid))
+            > 0.95 * prm.contact.h_con_rel * prm.bore.c_m
+        {
             lo = mid;
         } else {
             hi = mid;
@@ -27,7 +29,7 @@ fn bench_contact(prm: &BearingParams) {
     }
     for (what, r) in [
         ("light contact, h_min = 0.95 h_con", lo),
-        ("outside the band", 0.9 * prm.c_m),
+        ("outside the band", 0.9 * prm.bore.c_m),
     ] {
         let j = at(r);
         let mut t_rep = Vec::new();
@@ -35,13 +37,14 @@ fn bench_contact(prm: &BearingParams) {
             let t = Instant::now();
             for _ in 0..1000 {
                 std::hint::black_box(fmu_airfilm::contact::contact_force_at_n(
-                    prm,
+                    &prm.bore,
+                    &prm.contact,
                     std::hint::black_box(&j),
                 ));
             }
             t_rep.push(t.elapsed().as_secs_f64() / 1000.0);
         }
-        let f = fmu_airfilm::contact::contact_force_at_n(prm, &j);
+        let f = fmu_airfilm::contact::contact_force_at_n(&prm.bore, &prm.contact, &j);
         println!(
             "contact force, {what} (|F| = {:.2} N): median {:.3} us per call",
             f[0].hypot(f[1]),
@@ -54,7 +57,7 @@ fn main() {
     let prm = BearingParams::paper();
     bench_contact(&prm);
     let om = 2.0 * PI * 1000.0;
-    let j = JournalState::at(0.0, -0.5 * prm.c_m, om);
+    let j = JournalState::at(0.0, -0.5 * prm.bore.c_m, om);
     let mut t_steady = Vec::new();
     for _ in 0..15 {
         let t = Instant::now();
@@ -68,7 +71,7 @@ fn main() {
     );
 
     // Whirl orbit eps 0.3, whirl 400 Hz, Omega 1000 Hz; 10 us communication steps after 5 ms warm-up.
-    let e = 0.3 * prm.c_m;
+    let e = 0.3 * prm.bore.c_m;
     let w = 2.0 * PI * 400.0;
     let orbit = move |t: f64| JournalState {
         dx_m: e * (w * t).cos(),

@@ -73,11 +73,11 @@ impl FilmLinearization {
         steady: SteadySolution,
     ) -> Result<Self, FilmError> {
         params.validate()?;
-        journal.check_finite(0.0)?;
+        crate::check_finite(&journal, 0.0)?;
         let mesh = &steady.mesh;
         let geom = Geometry::new(params, mesh);
         let mut gap = GapField::default();
-        geom.update(&journal, params.c_m, &mut gap);
+        geom.update(&journal, params.bore.c_m, &mut gap);
         let co = Coeffs {
             lambda: params.bearing_number(journal.omega_rad_s),
             tau_s: params.squeeze_time_s(),
@@ -126,7 +126,7 @@ impl FilmLinearization {
         } else {
             self.response_harmonic(nu)?
         };
-        let c = self.params.c_m;
+        let c = self.params.bore.c_m;
         let mut k = [[0.0; 2]; 2];
         let mut d = [[0.0; 2]; 2];
         for i in 0..2 {
@@ -248,7 +248,7 @@ fn assemble_block(
     let sy = 2.0 / mesh.dzeta_e;
     let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
     let nq = geom.nq;
-    let (ex, ey) = (journal.dx_m / prm.c_m, journal.dy_m / prm.c_m);
+    let (ex, ey) = (journal.dx_m / prm.bore.c_m, journal.dy_m / prm.bore.c_m);
     for (e, nodes) in mesh.elem.iter().enumerate() {
         let col = mesh.elem_col[e] as usize;
         let mut pe = [0.0; 9];
@@ -313,7 +313,7 @@ fn assemble_block(
 
 /// Stiffness of the contact penalty force by central differences (step 1e-4 C).
 fn contact_stiffness(prm: &BearingParams, journal: &JournalState) -> Mat2 {
-    let step = 1e-4 * prm.c_m;
+    let step = 1e-4 * prm.bore.c_m;
     let mut k = [[0.0; 2]; 2];
     for dir in 0..2 {
         let mut f = [[0.0; 2]; 2];
@@ -324,7 +324,7 @@ fn contact_stiffness(prm: &BearingParams, journal: &JournalState) -> Mat2 {
             } else {
                 js.dy_m += sign * step;
             }
-            f[si] = contact_force_n(prm, &js, min_gap_m(prm, &js));
+            f[si] = contact_force_n(&prm.bore, &prm.contact, &js, min_gap_m(&prm.bore, &js));
         }
         for i in 0..2 {
             k[i][dir] = -(f[0][i] - f[1][i]) / (2.0 * step);

@@ -92,3 +92,13 @@ impl fmt::Display for FilmError {
 }
 
 impl std::error::Error for FilmError {}
+
+impl From<bearing::InvalidParameter> for FilmError {
+    fn from(e: bearing::InvalidParameter) -> Self {
+        FilmError::InvalidParameter {
+            name: e.name,
+            value: e.value,
+            reason: e.reason,
+        }
+    }
+}

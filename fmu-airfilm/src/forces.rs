@@ -49,7 +49,7 @@ pub fn pressure_force_n(prm: &BearingParams, mesh: &Mesh, geom: &Geometry, p: &[
             }
         }
     }
-    let s = -2.0 * prm.p_a_pa * prm.r_m * prm.r_m;
+    let s = -2.0 * prm.p_a_pa * prm.bore.r_m * prm.bore.r_m;
     [s * fx, s * fy]
 }
 
@@ -72,7 +72,7 @@ pub fn mass_times_rt_j(prm: &BearingParams, mesh: &Mesh, gap: &GapField, p: &[f6
             }
         }
     }
-    2.0 * prm.r_m * prm.r_m * prm.p_a_pa * prm.c_m * m
+    2.0 * prm.bore.r_m * prm.bore.r_m * prm.p_a_pa * prm.bore.c_m * m
 }
 
 /// P and its reference derivatives at (xi, eta) of element `e` of a block slice `pb`.
@@ -102,7 +102,7 @@ pub fn mass_outflow_times_rt_w(
     p: &[f64],
 ) -> f64 {
     let lam = prm.bearing_number(j.omega_rad_s);
-    let c = prm.c_m;
+    let c = prm.bore.c_m;
     let mut flow = 0.0;
     for k in 0..mesh.n_blocks {
         let pb = &p[k * mesh.npb..(k + 1) * mesh.npb];
@@ -113,7 +113,7 @@ pub fn mass_outflow_times_rt_w(
                 if row == mesh.ne_z - 1 {
                     // Bearing edge z = b/2, outward normal +zeta.
                     let s = mesh.gauss_phi(col, q);
-                    let hh = gap_m(prm, k, s, j) / c;
+                    let hh = gap_m(&prm.bore, k, s, j) / c;
                     let (pq, _, pz) = eval(mesh, e, pb, GAUSS3_X[q], 1.0);
                     flow += 0.5 * mesh.dphi_e * GAUSS3_W[q] * (-pq * hh.powi(3) * pz);
                 }
@@ -121,9 +121,9 @@ pub fn mass_outflow_times_rt_w(
                     let (xi, s, sign) = if col == 0 {
                         (-1.0, 0.0, -1.0)
                     } else {
-                        (1.0, prm.block_span_rad(), 1.0)
+                        (1.0, prm.bore.block_span_rad(), 1.0)
                     };
-                    let hh = gap_m(prm, k, s, j) / c;
+                    let hh = gap_m(&prm.bore, k, s, j) / c;
                     let (pq, pp, _) = eval(mesh, e, pb, xi, GAUSS3_X[q]);
                     let fphi = -pq * hh.powi(3) * pp + lam * pq * hh;
                     flow += 0.5 * mesh.dzeta_e * GAUSS3_W[q] * sign * fphi;

@@ -253,7 +253,7 @@ impl AirFilm {
                 t_s,
             });
         }
-        journal.check_finite(t_s)?;
+        crate::check_finite(&journal, t_s)?;
         self.p.copy_from_slice(p_rel);
         self.t_s = t_s;
         self.journal = journal;
@@ -296,7 +296,8 @@ impl AirFilm {
     /// Gas mass in the film times R T (J), at the current state.
     pub fn mass_times_rt_j(&self) -> f64 {
         let mut gap = GapField::default();
-        self.geom.update(&self.journal, self.params.c_m, &mut gap);
+        self.geom
+            .update(&self.journal, self.params.bore.c_m, &mut gap);
         forces::mass_times_rt_j(&self.params, &self.mesh, &gap, &self.p)
     }
 
@@ -366,10 +367,10 @@ impl AirFilm {
             let last = hs == remaining;
             let t_new = if last { t_end } else { t + hs };
             let j_new = journal(t_new);
-            if let Err(e) = j_new.check_finite(t_new) {
+            if let Err(e) = crate::check_finite(&j_new, t_new) {
                 break Err(e);
             }
-            let h_min_m = min_gap_m(&self.params, &j_new);
+            let h_min_m = min_gap_m(&self.params.bore, &j_new);
             if h_min_m <= 0.0 {
                 break Err(FilmError::BeyondContactLimit {
                     h_min_m,
@@ -520,7 +521,7 @@ impl AirFilm {
         for i in 0..n {
             s.wt[i] = 1.0 / (prm.rtol * self.p[i].abs() + atol);
         }
-        self.geom.update(j_new, prm.c_m, &mut s.gap);
+        self.geom.update(j_new, prm.bore.c_m, &mut s.gap);
         let co = Coeffs {
             lambda: prm.bearing_number(j_new.omega_rad_s),
             tau_s: prm.squeeze_time_s(),
@@ -690,8 +691,8 @@ pub(crate) fn outputs_for(
     p: &[f64],
 ) -> FilmOutputs {
     let fp = forces::pressure_force_n(prm, mesh, geom, p);
-    let h_min_m = min_gap_m(prm, j);
-    let fc = contact::contact_force_n(prm, j, h_min_m);
+    let h_min_m = min_gap_m(&prm.bore, j);
+    let fc = contact::contact_force_n(&prm.bore, &prm.contact, j, h_min_m);
     let p_max = p.iter().cloned().fold(f64::NEG_INFINITY, f64::max) * prm.p_a_pa;
     let in_force = if prm.contact_in_force { 1.0 } else { 0.0 };
     FilmOutputs {
@@ -700,7 +701,7 @@ pub(crate) fn outputs_for(
         fx_contact_n: fc[0],
         fy_contact_n: fc[1],
         f_contact_n: fc[0].hypot(fc[1]),
-        eps: j.dx_m.hypot(j.dy_m) / prm.c_m,
+        eps: j.dx_m.hypot(j.dy_m) / prm.bore.c_m,
         h_min_m,
         p_max_pa: p_max,
     }

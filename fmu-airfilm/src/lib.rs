@@ -29,44 +29,12 @@ pub use integrator::{AirFilm, StepStats, P_FLOOR_REL};
 pub use params::BearingParams;
 pub use steady::{static_stiffness, steady_state, SteadySolution};
 
-use serde::{Deserialize, Serialize};
+pub use bearing::{Bore, ContactLaw, JournalState};
 
-/// Inputs of the film at one instant: journal displacement and velocity relative to the ring
-/// (global x, y frame) and the rotor speed.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
-pub struct JournalState {
-    pub dx_m: f64,
-    pub dy_m: f64,
-    pub vx_m_s: f64,
-    pub vy_m_s: f64,
-    pub omega_rad_s: f64,
-}
-
-impl JournalState {
-    /// Journal at rest at (dx, dy) with rotor speed omega.
-    pub fn at(dx_m: f64, dy_m: f64, omega_rad_s: f64) -> Self {
-        JournalState {
-            dx_m,
-            dy_m,
-            vx_m_s: 0.0,
-            vy_m_s: 0.0,
-            omega_rad_s,
-        }
-    }
-
-    /// Err if any component is NaN or infinite.
-    pub fn check_finite(&self, t_s: f64) -> Result<(), FilmError> {
-        for (what, value) in [
-            ("dx", self.dx_m),
-            ("dy", self.dy_m),
-            ("vx", self.vx_m_s),
-            ("vy", self.vy_m_s),
-            ("omega", self.omega_rad_s),
-        ] {
-            if !value.is_finite() {
-                return Err(FilmError::InvalidInput { what, value, t_s });
-            }
-        }
-        Ok(())
+/// Err if any component of the journal state is NaN or infinite.
+pub fn check_finite(j: &JournalState, t_s: f64) -> Result<(), FilmError> {
+    match j.first_non_finite() {
+        Some((what, value)) => Err(FilmError::InvalidInput { what, value, t_s }),
+        None => Ok(()),
     }
 }

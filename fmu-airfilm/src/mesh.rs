@@ -11,8 +11,7 @@ use crate::params::BearingParams;
 use serde::{Deserialize, Serialize};
 
 /// 3-point Gauss-Legendre abscissae and weights on [-1, 1].
-pub const GAUSS3_X: [f64; 3] = [-0.774_596_669_241_483_4, 0.0, 0.774_596_669_241_483_4];
-pub const GAUSS3_W: [f64; 3] = [5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0];
+pub use bearing::quadrature::{GAUSS3_W, GAUSS3_X};
 
 /// 1-D quadratic Lagrange shape functions on nodes -1, 0, 1 and their derivatives.
 #[inline]
@@ -102,7 +101,7 @@ pub struct Mesh {
 
 impl Mesh {
     pub fn new(p: &BearingParams) -> Self {
-        let periodic = p.plain_bore;
+        let periodic = p.bore.plain_bore;
         let ne_phi = p.n_elem_phi;
         let ne_z = p.n_elem_z;
         let n_lines = if periodic { 2 * ne_phi } else { 2 * ne_phi + 1 };
@@ -156,7 +155,7 @@ impl Mesh {
                 }
             }
         }
-        let n_blocks = p.n_blocks();
+        let n_blocks = p.bore.n_blocks();
         Mesh {
             n_blocks,
             ne_phi,
@@ -165,9 +164,9 @@ impl Mesh {
             nz,
             npb,
             periodic,
-            block_phi0_rad: (0..n_blocks).map(|k| p.block_start_rad(k)).collect(),
-            dphi_e: p.block_span_rad() / ne_phi as f64,
-            dzeta_e: 0.5 * p.b_m / p.r_m / ne_z as f64,
+            block_phi0_rad: (0..n_blocks).map(|k| p.bore.block_start_rad(k)).collect(),
+            dphi_e: p.bore.block_span_rad() / ne_phi as f64,
+            dzeta_e: 0.5 * p.bore.b_m / p.bore.r_m / ne_z as f64,
             elem,
             elem_col,
             elem_row,

@@ -96,23 +96,23 @@ impl Clone for AirFilmFmu {
 /// the library with exactly the FMU's parameter mapping).
 pub fn params_from(store: &Store) -> BearingParams {
     let mut p = BearingParams::paper();
-    p.r_m = store.real(vr::R);
-    p.b_m = store.real(vr::B);
-    p.c_m = store.real(vr::C);
-    p.dh_m = store.real(vr::DH);
-    p.phi_t_rad = store.real(vr::PHI_T);
-    p.alpha_rad = store.real(vr::ALPHA);
+    p.bore.r_m = store.real(vr::R);
+    p.bore.b_m = store.real(vr::B);
+    p.bore.c_m = store.real(vr::C);
+    p.bore.dh_m = store.real(vr::DH);
+    p.bore.phi_t_rad = store.real(vr::PHI_T);
+    p.bore.alpha_rad = store.real(vr::ALPHA);
     p.eta_pa_s = store.real(vr::ETA);
     p.p_a_pa = store.real(vr::P_A);
-    p.h_con_rel = store.real(vr::H_CON_REL);
-    p.c_con_n_per_m3 = store.real(vr::C_CON);
+    p.contact.h_con_rel = store.real(vr::H_CON_REL);
+    p.contact.c_con_n_per_m3 = store.real(vr::C_CON);
     p.rtol = store.real(vr::RTOL);
     p.atol_pa = store.real(vr::ATOL);
     p.h_max_s = store.real(vr::H_MAX);
-    p.n_lobes = store.integer(vr::N_LOBES).max(0) as usize;
+    p.bore.n_lobes = store.integer(vr::N_LOBES).max(0) as usize;
     p.n_elem_phi = store.integer(vr::N_ELEM_PHI).max(0) as usize;
     p.n_elem_z = store.integer(vr::N_ELEM_Z).max(0) as usize;
-    p.plain_bore = store.boolean(vr::PLAIN_BORE);
+    p.bore.plain_bore = store.boolean(vr::PLAIN_BORE);
     p.contact_in_force = store.boolean(vr::CONTACT_IN_FORCE);
     p
 }
@@ -137,17 +137,17 @@ impl Model for AirFilmFmu {
             description: "Air film of one three-lobe air ring bearing: isothermal compressible Reynolds equation, 9-node FE, implicit BDF, mixed-lubrication contact",
             version: env!("CARGO_PKG_VERSION"),
             variables: vec![
-                V::real_parameter("r", vr::R, p.r_m, "m", "journal radius").display("mm"),
-                V::real_parameter("b", vr::B, p.b_m, "m", "bearing (ring) width").display("mm"),
-                V::real_parameter("C", vr::C, p.c_m, "m", "nominal clearance (gap at each lobe's trailing edge)").display("um"),
-                V::real_parameter("dH", vr::DH, p.dh_m, "m", "step height: extra gap at each lobe's leading edge").display("um"),
-                V::real_parameter("phi_t", vr::PHI_T, p.phi_t_rad, "rad", "lobe angle, in (0, 2 pi/n_lobes)").display("deg"),
-                V::real_parameter("alpha", vr::ALPHA, p.alpha_rad, "rad", "ring orientation: global angle = ring angle + alpha (paper: pi - phi_t)")
+                V::real_parameter("r", vr::R, p.bore.r_m, "m", "journal radius").display("mm"),
+                V::real_parameter("b", vr::B, p.bore.b_m, "m", "bearing (ring) width").display("mm"),
+                V::real_parameter("C", vr::C, p.bore.c_m, "m", "nominal clearance (gap at each lobe's trailing edge)").display("um"),
+                V::real_parameter("dH", vr::DH, p.bore.dh_m, "m", "step height: extra gap at each lobe's leading edge").display("um"),
+                V::real_parameter("phi_t", vr::PHI_T, p.bore.phi_t_rad, "rad", "lobe angle, in (0, 2 pi/n_lobes)").display("deg"),
+                V::real_parameter("alpha", vr::ALPHA, p.bore.alpha_rad, "rad", "ring orientation: global angle = ring angle + alpha (paper: pi - phi_t)")
                     .display("deg"),
                 V::real_parameter("eta", vr::ETA, p.eta_pa_s, "Pa.s", "dynamic viscosity of the gas"),
                 V::real_parameter("p_a", vr::P_A, p.p_a_pa, "Pa", "ambient pressure").display("bar"),
-                V::real_parameter("h_con_rel", vr::H_CON_REL, p.h_con_rel, "1", "contact threshold h_con / C (mixed lubrication)"),
-                V::real_parameter("c_con", vr::C_CON, p.c_con_n_per_m3, "N/m3", "penalty stiffness of the asperity contact pressure").display("N/mm3"),
+                V::real_parameter("h_con_rel", vr::H_CON_REL, p.contact.h_con_rel, "1", "contact threshold h_con / C (mixed lubrication)"),
+                V::real_parameter("c_con", vr::C_CON, p.contact.c_con_n_per_m3, "N/m3", "penalty stiffness of the asperity contact pressure").display("N/mm3"),
                 V::real_parameter("rtol", vr::RTOL, p.rtol, "1", "relative tolerance of the time integration's error control"),
                 V::real_parameter("atol", vr::ATOL, p.atol_pa, "Pa", "absolute pressure tolerance of the error control"),
                 V::real_parameter("h_max", vr::H_MAX, p.h_max_s, "s", "largest internal sub-step").display("ms"),
@@ -162,7 +162,7 @@ impl Model for AirFilmFmu {
                 V::real_output("h_min", vr::H_MIN, "m", "minimum gap on the lobes").display("um"),
                 V::real_output("p_max", vr::P_MAX, "Pa", "peak film pressure (absolute)").display("bar"),
                 V::real_output("F_contact", vr::F_CONTACT, "N", "magnitude of the mixed-lubrication contact force (reported even when contact_in_force = false)"),
-                V::integer_parameter("n_lobes", vr::N_LOBES, p.n_lobes as i32, "number of lobes").range(Some(1.0), Some(12.0)),
+                V::integer_parameter("n_lobes", vr::N_LOBES, p.bore.n_lobes as i32, "number of lobes").range(Some(1.0), Some(12.0)),
                 V::integer_parameter("n_elem_phi", vr::N_ELEM_PHI, p.n_elem_phi as i32, "elements along each lobe (paper: 20)")
                     .range(Some(1.0), Some(2000.0)),
                 V::integer_parameter("n_elem_z", vr::N_ELEM_Z, p.n_elem_z as i32, "elements across the half width (paper: 6)")
@@ -203,9 +203,7 @@ impl Model for AirFilmFmu {
             vy_m_s: store.real(vr::VY),
             omega_rad_s: store.real(vr::OMEGA),
         };
-        journal
-            .check_finite(start_time)
-            .map_err(|e| e.to_string())?;
+        crate::check_finite(&journal, start_time).map_err(|e| e.to_string())?;
         let p_rel = if store.boolean(vr::START_STEADY) {
             crate::steady_state(&params, journal)
                 .map_err(|e| format!("steady start: {e}"))?

@@ -49,14 +49,14 @@ pub fn steady_from(
     mut p: Vec<f64>,
     source: Option<&[f64]>,
 ) -> Result<SteadySolution, FilmError> {
-    journal.check_finite(0.0)?;
-    let h_min_m = min_gap_m(params, &journal);
+    crate::check_finite(&journal, 0.0)?;
+    let h_min_m = min_gap_m(&params.bore, &journal);
     if h_min_m <= 0.0 {
         return Err(FilmError::BeyondContactLimit { h_min_m, t_s: 0.0 });
     }
     let geom = Geometry::new(params, &mesh);
     let mut gap = GapField::default();
-    geom.update(&journal, params.c_m, &mut gap);
+    geom.update(&journal, params.bore.c_m, &mut gap);
     let npb = mesh.npb;
     let ne = mesh.elem.len();
     let mut lu = BandLu::new(npb, mesh.kl, mesh.ku);
@@ -150,7 +150,7 @@ pub fn static_stiffness(
     journal: JournalState,
 ) -> Result<[[f64; 2]; 2], FilmError> {
     let base = steady_state(params, journal)?;
-    let d = 2e-3 * params.c_m;
+    let d = 2e-3 * params.bore.c_m;
     let mut k = [[0.0; 2]; 2];
     for jdir in 0..2 {
         let mut f = [[0.0; 2]; 2];

@@ -1,13 +1,14 @@
 //! Plain bore against closed forms: the incompressible short-bearing limit and the
 //! small-eccentricity compressible (Ausman) result.
 
+use fmu_airfilm::Bore;
 use fmu_airfilm::{steady_state, BearingParams, JournalState};
 use std::f64::consts::PI;
 
 /// Radial (restoring) and tangential (leading, in the sense of rotation) load for a journal
 /// displaced along +x: W_r = -Fx, W_t = +Fy.
 fn loads(prm: &BearingParams, eps: f64, omega: f64) -> (f64, f64) {
-    let s = steady_state(prm, JournalState::at(eps * prm.c_m, 0.0, omega)).unwrap();
+    let s = steady_state(prm, JournalState::at(eps * prm.bore.c_m, 0.0, omega)).unwrap();
     (-s.outputs.fx_n, s.outputs.fy_n)
 }
 
@@ -15,19 +16,23 @@ fn loads(prm: &BearingParams, eps: f64, omega: f64) -> (f64, f64) {
 fn short_bearing_incompressible_limit() {
     // L/D = 0.1, Lambda = 1e-3: the compressible film is incompressible to O(Lambda).
     let prm = BearingParams {
-        b_m: 3e-3,
+        bore: Bore {
+            b_m: 3e-3,
+            ..BearingParams::plain_bore().bore
+        },
         n_elem_phi: 48,
         n_elem_z: 4,
         ..BearingParams::plain_bore()
     };
     let lam_target = 1e-3;
-    let omega = lam_target * prm.p_a_pa * prm.c_m.powi(2) / (6.0 * prm.eta_pa_s * prm.r_m.powi(2));
+    let omega = lam_target * prm.p_a_pa * prm.bore.c_m.powi(2)
+        / (6.0 * prm.eta_pa_s * prm.bore.r_m.powi(2));
     for eps in [0.2, 0.5] {
         let (wr, wt) = loads(&prm, eps, omega);
-        let u = omega * prm.r_m;
-        let l = prm.b_m;
+        let u = omega * prm.bore.r_m;
+        let l = prm.bore.b_m;
         let ocvirk = PI * prm.eta_pa_s * u * l.powi(3) * eps
-            / (2.0 * prm.c_m.powi(2) * (1.0 - eps * eps).powf(1.5));
+            / (2.0 * prm.bore.c_m.powi(2) * (1.0 - eps * eps).powf(1.5));
         let rel = (wt - ocvirk) / ocvirk;
         println!(
             "short bearing eps {eps}: W_t = {wt:.6e} N, Ocvirk full film {ocvirk:.6e} N, rel. diff {rel:+.3e}; W_r/W_t = {:.2e}",
@@ -73,12 +78,13 @@ fn small_eccentricity_compressible_ausman() {
         n_elem_z: 8,
         ..BearingParams::plain_bore()
     };
-    let l_over_d = prm.b_m / (2.0 * prm.r_m);
+    let l_over_d = prm.bore.b_m / (2.0 * prm.bore.r_m);
     let eps = 0.01;
     for lambda in [0.3, 1.0, 3.0, 10.0] {
-        let omega = lambda * prm.p_a_pa * prm.c_m.powi(2) / (6.0 * prm.eta_pa_s * prm.r_m.powi(2));
+        let omega = lambda * prm.p_a_pa * prm.bore.c_m.powi(2)
+            / (6.0 * prm.eta_pa_s * prm.bore.r_m.powi(2));
         let (wr, wt) = loads(&prm, eps, omega);
-        let scale = prm.p_a_pa * prm.b_m * 2.0 * prm.r_m * eps;
+        let scale = prm.p_a_pa * prm.bore.b_m * 2.0 * prm.bore.r_m * eps;
         let num = wr.hypot(wt) / scale;
         let att = wt.atan2(wr);
         // Ausman: load/(p_a L D eps) = (pi/(2 lam)) |Lambda/(1+i Lambda) (lam - tanh(kappa lam)/kappa)|.

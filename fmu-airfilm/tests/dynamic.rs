@@ -18,7 +18,7 @@ fn rel(a: f64, scale: f64) -> f64 {
 #[test]
 fn k_at_zero_frequency_equals_static_stiffness() {
     let prm = BearingParams::paper();
-    let j = JournalState::at(0.1 * prm.c_m, -0.3 * prm.c_m, OMEGA);
+    let j = JournalState::at(0.1 * prm.bore.c_m, -0.3 * prm.bore.c_m, OMEGA);
     let (k0, d0) = dynamic_coefficients(&prm, j, 0.0).unwrap();
     let ks = static_stiffness(&prm, j).unwrap();
     let scale = ks.iter().flatten().fold(0.0f64, |m, v| m.max(v.abs()));
@@ -93,11 +93,11 @@ fn transient_first_harmonic(
 
 /// The journal displaced along -y (towards the bore) until the minimum gap is `h_rel` C.
 fn journal_at_gap(prm: &BearingParams, h_rel: f64) -> JournalState {
-    let (mut lo, mut hi) = (0.0, 2.0 * prm.c_m);
+    let (mut lo, mut hi) = (0.0, 2.0 * prm.bore.c_m);
     for _ in 0..100 {
         let mid = 0.5 * (lo + hi);
-        let h = min_gap_m(prm, &JournalState::at(0.0, -mid, OMEGA));
-        if h > h_rel * prm.c_m {
+        let h = min_gap_m(&prm.bore, &JournalState::at(0.0, -mid, OMEGA));
+        if h > h_rel * prm.bore.c_m {
             lo = mid;
         } else {
             hi = mid;
@@ -117,7 +117,7 @@ fn journal_at_gap(prm: &BearingParams, h_rel: f64) -> JournalState {
 /// pseudo-time schedule does not converge this close to contact).
 fn fd_stiffness(prm: &BearingParams, j: JournalState, step_rel: f64) -> [[f64; 2]; 2] {
     let base = steady_state(prm, j).unwrap();
-    let d = step_rel * prm.c_m;
+    let d = step_rel * prm.bore.c_m;
     let mut k = [[0.0; 2]; 2];
     for dir in 0..2 {
         let f = |sign: f64| {
@@ -165,7 +165,7 @@ fn k_at_zero_frequency_equals_static_stiffness_in_contact() {
         );
         println!(
             "min gap {h_rel} C (eps {:.3}): K(0) {k0:?} N/m; |K(0) - K_fd| / max|K| = {coarse:.2e} (step 2e-3 C), {fine:.2e} (5e-4 C)",
-            j.dy_m.abs() / prm.c_m
+            j.dy_m.abs() / prm.bore.c_m
         );
         assert!(
             fine < 1e-4 && fine < 0.2 * coarse,
@@ -186,11 +186,11 @@ fn impedance_matches_transient_finite_differences() {
         h_max_s: 2e-6,
         ..BearingParams::paper()
     };
-    let j0 = JournalState::at(0.1 * prm.c_m, -0.3 * prm.c_m, OMEGA);
+    let j0 = JournalState::at(0.1 * prm.bore.c_m, -0.3 * prm.bore.c_m, OMEGA);
     let st = steady_state(&prm, j0).unwrap();
     let p0 = st.p_rel.clone();
     let lin = FilmLinearization::from_steady(&prm, j0, st).unwrap();
-    let a = 0.01 * prm.c_m;
+    let a = 0.01 * prm.bore.c_m;
     let mut worst = 0.0f64;
     let mut worst_own = 0.0f64;
     for f_hz in [300.0, 1000.0, 2500.0] {

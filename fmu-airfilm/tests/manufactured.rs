@@ -7,8 +7,13 @@ use std::f64::consts::PI;
 #[test]
 fn l2_error_order_is_three_on_the_lobed_geometry() {
     let base = BearingParams::paper();
-    let (c, dh, phi_t, alpha) = (base.c_m, base.dh_m, base.phi_t_rad, base.alpha_rad);
-    let zb = 0.5 * base.b_m / base.r_m;
+    let (c, dh, phi_t, alpha) = (
+        base.bore.c_m,
+        base.bore.dh_m,
+        base.bore.phi_t_rad,
+        base.bore.alpha_rad,
+    );
+    let zb = 0.5 * base.bore.b_m / base.bore.r_m;
     let (ex, ey) = (0.2, -0.4); // journal offset / C
     let omega = 2.0 * PI * 1000.0;
     let lam = base.bearing_number(omega);

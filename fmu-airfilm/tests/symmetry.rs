@@ -1,5 +1,6 @@
 //! Symmetry and invariance of the lobed film, squeeze sign, and the paper bearing's stiffness.
 
+use fmu_airfilm::Bore;
 use fmu_airfilm::{static_stiffness, steady_state, AirFilm, BearingParams, JournalState};
 use std::f64::consts::PI;
 
@@ -28,7 +29,7 @@ fn centred_journal_feels_no_net_force() {
 #[test]
 fn displacement_turned_by_lobe_pitch_turns_the_force() {
     let prm = BearingParams::paper();
-    let d = [0.25 * prm.c_m, -0.35 * prm.c_m];
+    let d = [0.25 * prm.bore.c_m, -0.35 * prm.bore.c_m];
     let f0 = force(&prm, d);
     for k in 1..3 {
         let a = k as f64 * 2.0 * PI / 3.0;
@@ -43,11 +44,14 @@ fn displacement_turned_by_lobe_pitch_turns_the_force() {
 #[test]
 fn changing_alpha_turns_the_force() {
     let prm = BearingParams::paper();
-    let d = [0.1 * prm.c_m, -0.5 * prm.c_m];
+    let d = [0.1 * prm.bore.c_m, -0.5 * prm.bore.c_m];
     let f0 = force(&prm, d);
     let da = 0.37;
     let turned = BearingParams {
-        alpha_rad: prm.alpha_rad + da,
+        bore: Bore {
+            alpha_rad: prm.bore.alpha_rad + da,
+            ..prm.bore.clone()
+        },
         ..prm.clone()
     };
     let f1 = force(&turned, rot(d, da));
@@ -79,10 +83,10 @@ fn pure_squeeze_opposes_the_velocity() {
         let cosang = (o.fx_n * v[0] + o.fy_n * v[1]) / (o.fx_n.hypot(o.fy_n) * v[0].hypot(v[1]));
         println!(
             "squeeze at Omega = 0 (plain bore {}): F = ({:.4}, {:.4}) N, cos(F, v) = {cosang:.5}",
-            prm.plain_bore, o.fx_n, o.fy_n
+            prm.bore.plain_bore, o.fx_n, o.fy_n
         );
         assert!(cosang < -0.9);
-        if prm.plain_bore {
+        if prm.bore.plain_bore {
             assert!(cosang < -1.0 + 1e-9);
         }
     }
@@ -92,8 +96,8 @@ fn pure_squeeze_opposes_the_velocity() {
 fn paper_bearing_stiffness_at_1000_hz() {
     let prm = BearingParams::paper();
     for eps in [0.3, 0.5, 0.7] {
-        let k = static_stiffness(&prm, JournalState::at(0.0, -eps * prm.c_m, OMEGA)).unwrap();
-        let f = force(&prm, [0.0, -eps * prm.c_m]);
+        let k = static_stiffness(&prm, JournalState::at(0.0, -eps * prm.bore.c_m, OMEGA)).unwrap();
+        let f = force(&prm, [0.0, -eps * prm.bore.c_m]);
         println!(
             "eps {eps} along -y, 1000 Hz: F = ({:.3}, {:.3}) N; K [N/mm] = [[{:.0}, {:.0}], [{:.0}, {:.0}]]",
             f[0], f[1], k[0][0] * 1e-3, k[0][1] * 1e-3, k[1][0] * 1e-3, k[1][1] * 1e-3

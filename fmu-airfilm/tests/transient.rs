@@ -1,6 +1,7 @@
 //! Transient solver: temporal order on a prescribed whirl orbit, gas mass conservation,
 //! bit-identical clone/serialize-restore, and clear errors for bad input.
 
+use fmu_airfilm::Bore;
 use fmu_airfilm::{steady_state, AirFilm, BearingParams, FilmError, JournalState};
 use std::f64::consts::PI;
 
@@ -10,7 +11,7 @@ fn whirl(
     f_whirl_hz: f64,
     f_spin_hz: f64,
 ) -> impl Fn(f64) -> JournalState {
-    let e = eps * prm.c_m;
+    let e = eps * prm.bore.c_m;
     let w = 2.0 * PI * f_whirl_hz;
     let om = 2.0 * PI * f_spin_hz;
     move |t: f64| JournalState {
@@ -118,15 +119,15 @@ fn gas_mass_is_conserved() {
         assert_eq!(f.total_stats().n_pressure_floored, 0);
         let m1 = f.mass_times_rt_j();
         let lam = prm.bearing_number(orbit(0.0).omega_rad_s);
-        let h_lead = (prm.c_m + prm.dh_m) / prm.c_m;
-        let gross_w = prm.p_a_pa.powi(2) * prm.c_m.powi(3) / (12.0 * prm.eta_pa_s)
+        let h_lead = (prm.bore.c_m + prm.bore.dh_m) / prm.bore.c_m;
+        let gross_w = prm.p_a_pa.powi(2) * prm.bore.c_m.powi(3) / (12.0 * prm.eta_pa_s)
             * 2.0
             * 3.0
             * lam
             * h_lead
             * 0.5
-            * prm.b_m
-            / prm.r_m;
+            * prm.bore.b_m
+            / prm.bore.r_m;
         let imbalance = m1 - m0 + outflow;
         let rel = imbalance.abs() / (gross_w * n as f64 * dt);
         println!(
@@ -263,14 +264,20 @@ fn bad_input_gives_clear_errors() {
     for (bad, name) in [
         (
             BearingParams {
-                c_m: 0.0,
+                bore: Bore {
+                    c_m: 0.0,
+                    ..prm.bore.clone()
+                },
                 ..prm.clone()
             },
             "C",
         ),
         (
             BearingParams {
-                phi_t_rad: 2.5,
+                bore: Bore {
+                    phi_t_rad: 2.5,
+                    ..prm.bore.clone()
+                },
                 ..prm.clone()
             },
             "phi_t",
@@ -291,7 +298,10 @@ fn bad_input_gives_clear_errors() {
         ),
         (
             BearingParams {
-                dh_m: 1e-6,
+                bore: Bore {
+                    dh_m: 1e-6,
+                    ..BearingParams::plain_bore().bore
+                },
                 ..BearingParams::plain_bore()
             },
             "dH",
@@ -311,7 +321,7 @@ fn bad_input_gives_clear_errors() {
     let mut f = AirFilm::new(BearingParams::plain_bore()).unwrap();
     let e = f
         .advance(0.0, 1e-5, &|_| {
-            JournalState::at(0.0, -1.01 * prm.c_m, 100.0)
+            JournalState::at(0.0, -1.01 * prm.bore.c_m, 100.0)
         })
         .unwrap_err();
     println!("{e}");
@@ -322,20 +332,21 @@ fn bad_input_gives_clear_errors() {
 fn contact_pressure_acts_below_h_con() {
     let prm = BearingParams::plain_bore();
     let om = 2.0 * PI * 1000.0;
-    let s = steady_state(&prm, JournalState::at(0.0, -0.98 * prm.c_m, om)).unwrap();
+    let s = steady_state(&prm, JournalState::at(0.0, -0.98 * prm.bore.c_m, om)).unwrap();
     let o = s.outputs;
     // Contact on the band where h < h_con: analytic penalty force for h = C (1 + 0.98 sin theta).
-    let (hc, e) = (prm.h_con_rel, 0.98);
+    let (hc, e) = (prm.contact.h_con_rel, 0.98);
     let n = 200_000;
     let mut fy = 0.0;
     for i in 0..n {
         let th = 2.0 * PI * (i as f64 + 0.5) / n as f64;
         let h = 1.0 + e * th.sin();
         if h < hc {
-            fy -= prm.c_con_n_per_m3 * prm.c_m * (hc - h) * th.sin() * 2.0 * PI / n as f64;
+            fy -= prm.contact.c_con_n_per_m3 * prm.bore.c_m * (hc - h) * th.sin() * 2.0 * PI
+                / n as f64;
         }
     }
-    fy *= prm.b_m * prm.r_m;
+    fy *= prm.bore.b_m * prm.bore.r_m;
     println!("eps 0.98 plain bore: F = ({:.3}, {:.3}) N, contact {:.3} N (reference {fy:.3} N), h_min {:.3e} m", o.fx_n, o.fy_n, o.fy_contact_n, o.h_min_m);
     assert!(o.fy_contact_n > 0.0 && ((o.fy_contact_n - fy) / fy).abs() < 1e-6);
     assert!(o.fx_n.is_finite() && o.fy_n > o.fy_contact_n);
@@ -350,7 +361,7 @@ fn contact_in_force_false_leaves_exactly_the_contact_out_of_the_force() {
         contact_in_force: false,
         ..with.clone()
     };
-    let j = JournalState::at(0.0, -0.98 * with.c_m, 2.0 * PI * 1000.0);
+    let j = JournalState::at(0.0, -0.98 * with.bore.c_m, 2.0 * PI * 1000.0);
     let a = steady_state(&with, j).unwrap().outputs;
     let b = steady_state(&without, j).unwrap().outputs;
     assert!(a.fy_contact_n > 1.0, "not in contact: {a:?}");
@@ -370,6 +381,6 @@ fn contact_in_force_false_leaves_exactly_the_contact_out_of_the_force() {
         "{b:?} vs {a:?}"
     );
     // And the force the rotor evaluates for that displacement is the film's contact force.
-    let rotor_side = fmu_airfilm::contact::contact_force_at_n(&without, &j);
+    let rotor_side = fmu_airfilm::contact::contact_force_at_n(&without.bore, &without.contact, &j);
     assert_eq!(rotor_side, [a.fx_contact_n, a.fy_contact_n]);
 }

@@ -27,8 +27,9 @@ use serde::{Deserialize, Serialize};
 /// Most steps the interval length adds to the budget of one call (1 s at h_max = 0.1 ms).
 pub const MAX_INTERVAL_STEPS: u64 = 100_000;
 
-/// Default of [`Tolerances::max_steps_per_call`] (CVODE's `mxstep` default is the same 500).
-pub const MAX_STEPS_PER_CALL: u64 = 500;
+/// Default of [`Tolerances::max_steps_per_call`]; defined with the rotor's parameters, whose
+/// default it also is.
+pub use crate::params::MAX_STEPS_PER_CALL;
 
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Tolerances {

@@ -106,11 +106,15 @@ pub struct RotorParams {
     /// penalty law; only the geometry and contact fields are used). None: the contact force
     /// arrives with the film force inputs. Inside the rotor the stiff contact is integrated
     /// implicitly instead of being extrapolated over a macro step (docs/convergence.md).
-    pub contact: Option<fmu_airfilm::BearingParams>,
+    pub contact: Option<[bearing::BoreContact; 2]>,
 }
 
+/// Default of the integrator's step budget per `advance` call (CVODE's `mxstep` default is the
+/// same 500).
+pub const MAX_STEPS_PER_CALL: u64 = 500;
+
 fn default_max_steps() -> u64 {
-    crate::integrator::MAX_STEPS_PER_CALL
+    MAX_STEPS_PER_CALL
 }
 
 impl RotorParams {
@@ -147,7 +151,7 @@ impl RotorParams {
             atol: 1e-8,
             atol_vel: 1e-5,
             h_max_s: 1e-4,
-            max_steps_per_call: crate::integrator::MAX_STEPS_PER_CALL,
+            max_steps_per_call: MAX_STEPS_PER_CALL,
             contact: None,
         }
     }
@@ -281,8 +285,8 @@ impl RotorParams {
                 return bad("imbalance radius", im.radius_m, "must be >= 0");
             }
         }
-        if let Some(b) = &self.contact {
-            if let Err(fmu_airfilm::FilmError::InvalidParameter {
+        for b in self.contact.iter().flatten() {
+            if let Err(bearing::InvalidParameter {
                 name,
                 value,
                 reason,

@@ -204,8 +204,8 @@ pub fn build_system(p: &RotorParams, films: Option<&[FilmCoefficients; 2]>) -> M
             reaction_body: None,
         },
     ];
-    if let Some(bearing) = &p.contact {
-        for (ring, s) in [(RING_C, s_c), (RING_T, s_t)] {
+    if let Some(bearings) = &p.contact {
+        for (bearing, (ring, s)) in bearings.iter().zip([(RING_C, s_c), (RING_T, s_t)]) {
             forces.push(ForceElement::RingContact {
                 body_a: ROTOR,
                 s_a_m: s,
@@ -360,7 +360,8 @@ impl Rotor {
             journal_m: [pj[0], pj[1]],
             ring_m: rr,
             contact_n: match &self.params.contact {
-                Some(b) => crate::system::ring_contact_force_n(b, dr),
+                // Bodies 1 and 2 are the rings C and T: bearings[ring - 1].
+                Some(bearings) => bearings[ring - RING_C].force_n(dr),
                 None => [0.0, 0.0],
             },
         }

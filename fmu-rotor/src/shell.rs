@@ -4,6 +4,7 @@
 //! Value references are part of the product (third-party masters store them): append, never renumber.
 
 use crate::{BearingForces, Disturbance, Imbalance, Rotor, RotorError, RotorParams};
+use bearing::{Bore, BoreContact, ContactLaw};
 use fmi2::{DefaultExperiment, Inputs, Log, Model, ModelInfo, StepOutcome, Store, Variable};
 use serde::{Deserialize, Serialize};
 
@@ -127,18 +128,24 @@ pub fn params_from(s: &Store) -> RotorParams {
         // Any Integer is a valid seed; its bit pattern is used as is.
         seed: s.integer(vr::DIST_SEED) as u32 as u64,
     };
-    p.contact = s.boolean(vr::CONTACT).then(|| fmu_airfilm::BearingParams {
-        r_m: s.real(vr::BEARING_R),
-        b_m: s.real(vr::BEARING_B),
-        c_m: s.real(vr::BEARING_C),
-        dh_m: s.real(vr::BEARING_DH),
-        phi_t_rad: s.real(vr::BEARING_PHI_T),
-        alpha_rad: s.real(vr::BEARING_ALPHA),
-        h_con_rel: s.real(vr::BEARING_H_CON_REL),
-        c_con_n_per_m3: s.real(vr::BEARING_C_CON),
-        n_lobes: s.integer(vr::BEARING_N_LOBES).max(0) as usize,
-        plain_bore: s.boolean(vr::BEARING_PLAIN_BORE),
-        ..fmu_airfilm::BearingParams::paper()
+    p.contact = s.boolean(vr::CONTACT).then(|| {
+        let b = BoreContact {
+            bore: Bore {
+                r_m: s.real(vr::BEARING_R),
+                b_m: s.real(vr::BEARING_B),
+                c_m: s.real(vr::BEARING_C),
+                dh_m: s.real(vr::BEARING_DH),
+                phi_t_rad: s.real(vr::BEARING_PHI_T),
+                alpha_rad: s.real(vr::BEARING_ALPHA),
+                n_lobes: s.integer(vr::BEARING_N_LOBES).max(0) as usize,
+                plain_bore: s.boolean(vr::BEARING_PLAIN_BORE),
+            },
+            law: ContactLaw {
+                h_con_rel: s.real(vr::BEARING_H_CON_REL),
+                c_con_n_per_m3: s.real(vr::BEARING_C_CON),
+            },
+        };
+        [b.clone(), b]
     });
     p
 }
@@ -147,7 +154,7 @@ pub fn params_from(s: &Store) -> RotorParams {
 /// `bearing_` prefix, same defaults) and the contact force outputs.
 fn contact_vars() -> Vec<Variable> {
     use Variable as V;
-    let b = fmu_airfilm::BearingParams::paper();
+    let BoreContact { bore: b, law } = BoreContact::paper();
     vec![
         V::boolean_parameter(
             "contact",
@@ -167,8 +174,8 @@ fn contact_vars() -> Vec<Variable> {
             .display("deg"),
         V::real_parameter("bearing_alpha", vr::BEARING_ALPHA, b.alpha_rad, "rad", "ring orientation of the contact geometry; set it equal to the air films' alpha")
             .display("deg"),
-        V::real_parameter("bearing_h_con_rel", vr::BEARING_H_CON_REL, b.h_con_rel, "1", "contact threshold h_con / C; set it equal to the air films' h_con_rel"),
-        V::real_parameter("bearing_c_con", vr::BEARING_C_CON, b.c_con_n_per_m3, "N/m3", "penalty stiffness of the contact pressure; set it equal to the air films' c_con")
+        V::real_parameter("bearing_h_con_rel", vr::BEARING_H_CON_REL, law.h_con_rel, "1", "contact threshold h_con / C; set it equal to the air films' h_con_rel"),
+        V::real_parameter("bearing_c_con", vr::BEARING_C_CON, law.c_con_n_per_m3, "N/m3", "penalty stiffness of the contact pressure; set it equal to the air films' c_con")
             .display("N/mm3"),
         V::integer_parameter("bearing_n_lobes", vr::BEARING_N_LOBES, b.n_lobes as i32, "number of lobes of the contact geometry; set it equal to the air films' n_lobes")
             .range(Some(1.0), Some(12.0)),

@@ -37,20 +37,14 @@ pub enum ForceElement {
         d_n_s_m: [[f64; 2]; 2],
     },
     /// Mixed-lubrication contact of the journal (point `s_a_m` of body a) on its ring (centre of
-    /// body b): the air-film library's penalty law on the lobed bore `bearing`, evaluated on
-    /// the relative displacement. F_b = -F_a. Boxed: the bearing data dwarfs the other variants.
+    /// body b): the `bearing` crate's penalty law on the lobed bore, evaluated on the relative
+    /// displacement. F_b = -F_a. Boxed: the bearing data dwarfs the other variants.
     RingContact {
         body_a: usize,
         s_a_m: Vec3,
         body_b: usize,
-        bearing: Box<fmu_airfilm::BearingParams>,
+        bearing: Box<bearing::BoreContact>,
     },
-}
-
-/// Contact force on the journal [N] (x, y) for journal-minus-ring displacement `dr_m`.
-pub fn ring_contact_force_n(bearing: &fmu_airfilm::BearingParams, dr_m: [f64; 2]) -> [f64; 2] {
-    let j = fmu_airfilm::JournalState::at(dr_m[0], dr_m[1], 0.0);
-    fmu_airfilm::contact::contact_force_at_n(bearing, &j)
 }
 
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -142,7 +136,7 @@ impl MultibodySystem {
                     let ka = &kins[body_a];
                     let kb = &kins[body_b];
                     let pa = ka.point_pos(&s_a_m);
-                    let fc = ring_contact_force_n(bearing, [pa[0] - kb.r[0], pa[1] - kb.r[1]]);
+                    let fc = bearing.force_n([pa[0] - kb.r[0], pa[1] - kb.r[1]]);
                     if fc != [0.0, 0.0] {
                         add_point_force(f, body_a, ka, &s_a_m, &[fc[0], fc[1], 0.0]);
                         f[6 * body_b] -= fc[0];

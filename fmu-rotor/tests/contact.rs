@@ -2,7 +2,7 @@
 //! dropped onto its bearings with no film force comes to rest on the contact, and the rest state
 //! obeys the static balance of every body.
 
-use fmu_airfilm::BearingParams;
+use bearing::{min_gap_m, Bore, BoreContact, JournalState};
 use fmu_rotor::{BearingForces, FilmCoefficients, Rotor, RotorOutputs, RotorParams};
 
 const MACRO_S: f64 = 1e-4;
@@ -16,7 +16,7 @@ fn no_film(_t: f64) -> BearingForces {
 fn dropped(contact: bool, damper_n_s_m: f64, t_end_s: f64) -> (Rotor, RotorOutputs) {
     let p = RotorParams {
         f_max_hz: 0.0,
-        contact: contact.then(BearingParams::paper),
+        contact: contact.then(|| [BoreContact::paper(), BoreContact::paper()]),
         ..RotorParams::paper()
     };
     let film = FilmCoefficients::isotropic(0.0, damper_n_s_m);
@@ -33,7 +33,7 @@ fn dropped(contact: bool, damper_n_s_m: f64, t_end_s: f64) -> (Rotor, RotorOutpu
 fn a_dropped_rotor_rests_on_the_contact_in_static_balance() {
     let (r, o) = dropped(true, 3000.0, 0.3);
     let p = r.params();
-    let b = BearingParams::paper();
+    let BoreContact { bore: b, law } = BoreContact::paper();
     let w_rotor_n = p.m_kg * p.g_m_s2;
     let fc = [o.bearing_c.contact_n, o.bearing_t.contact_n];
     // Rotor: the two contact forces carry its weight (no film force, damper at rest).
@@ -66,12 +66,9 @@ fn a_dropped_rotor_rests_on_the_contact_in_static_balance() {
         // The journal sits in the contact band: beyond C - h_con from the centre, yet the
         // penetration needed to carry ~4 N on a penalty of 1e16 N/m^3 is far below 1 um.
         let e = bo.dx_m.hypot(bo.dy_m);
-        assert!(e > b.c_m * (1.0 - b.h_con_rel), "eccentricity {e} m");
-        let h_min = fmu_airfilm::geometry::min_gap_m(
-            &b,
-            &fmu_airfilm::JournalState::at(bo.dx_m, bo.dy_m, 0.0),
-        );
-        let h_con = b.h_con_rel * b.c_m;
+        assert!(e > b.c_m * (1.0 - law.h_con_rel), "eccentricity {e} m");
+        let h_min = min_gap_m(&b, &JournalState::at(bo.dx_m, bo.dy_m, 0.0));
+        let h_con = law.h_con_rel * b.c_m;
         assert!(
             h_min < h_con && h_min > h_con - 0.1e-6,
             "h_min {h_min} m, h_con {h_con} m"
@@ -91,7 +88,7 @@ fn without_the_contact_the_rotor_falls_through_the_clearance() {
     // the contact force above is the rotor's own, not the damper's).
     let (_, o) = dropped(false, 3000.0, 0.03);
     assert!(
-        o.bearing_c.dy_m < -2.0 * BearingParams::paper().c_m,
+        o.bearing_c.dy_m < -2.0 * Bore::paper().c_m,
         "dy_C = {} m",
         o.bearing_c.dy_m
     );
@@ -100,10 +97,16 @@ fn without_the_contact_the_rotor_falls_through_the_clearance() {
 #[test]
 fn a_bad_contact_geometry_is_reported_under_the_rotor_parameter_name() {
     let p = RotorParams {
-        contact: Some(BearingParams {
-            c_m: -1e-6,
-            ..BearingParams::paper()
-        }),
+        contact: Some([
+            BoreContact::paper(),
+            BoreContact {
+                bore: Bore {
+                    c_m: -1e-6,
+                    ..Bore::paper()
+                },
+                ..BoreContact::paper()
+            },
+        ]),
         ..RotorParams::paper()
     };
     let e = Rotor::new(p).unwrap_err().to_string();

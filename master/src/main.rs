@@ -320,11 +320,11 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
 }
 
 /// The paper's three-lobe geometry with the given clearance and step height [um].
-fn lobes(clearance_um: f64, dh_um: f64) -> master::plot::LobeGeometry {
-    master::plot::LobeGeometry {
+fn lobes(clearance_um: f64, dh_um: f64) -> bearing::Bore {
+    bearing::Bore {
         c_m: clearance_um / 1e6,
         dh_m: dh_um / 1e6,
-        ..master::plot::LobeGeometry::paper()
+        ..bearing::Bore::paper()
     }
 }
 

@@ -6,8 +6,9 @@ use crate::cosim::gauss_seidel::ControlStats;
 use crate::cosim::setup::{build, stderr_logger};
 use crate::output::checkpoint::{self, MasterState};
 use crate::output::timeseries::{self, TimeSeriesWriter};
-use crate::plot::{plot_runup, LobeGeometry};
+use crate::plot::plot_runup;
 use crate::system::System;
+use bearing::Bore;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -27,7 +28,7 @@ pub struct RunOptions {
     pub extra: serde_json::Value,
     /// Bearing geometry (C for the eccentricities, lobes for the orbit plots); None: no run-up
     /// analysis and no plots.
-    pub lobes: Option<LobeGeometry>,
+    pub lobes: Option<Bore>,
     /// Also write `timeseries.parquet` when the run ends (the CSV is written in any case).
     pub parquet: bool,
 }

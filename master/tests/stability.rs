@@ -180,7 +180,10 @@ fn linear_model_reads_parameters_as_the_fmus_do() {
     assert!(close(rotor.c_c_n_m, 1e5) && close(rotor.c_t_n_m, 1e5));
     assert!(close(rotor.m_r_c_kg, 0.15) && close(rotor.d_c_n_s_m, 50.0));
     for f in &films {
-        assert!(close(f.c_m, 20e-6) && close(f.dh_m, 40e-6), "{f:?}");
+        assert!(
+            close(f.bore.c_m, 20e-6) && close(f.bore.dh_m, 40e-6),
+            "{f:?}"
+        );
         assert_eq!((f.n_elem_phi, f.n_elem_z), (20, 6));
         // The contact is part of the linearized film wherever a run-up evaluates it.
         assert!(f.contact_in_force);
@@ -192,7 +195,7 @@ fn linear_model_reads_parameters_as_the_fmus_do() {
     ];
     let (rotor, films) = params_of(&s).unwrap();
     assert!(close(rotor.c_c_n_m, 1.5e6) && close(rotor.c_t_n_m, 1e5));
-    assert!(close(films[0].c_m, 20e-6) && close(films[1].c_m, 25e-6));
+    assert!(close(films[0].bore.c_m, 20e-6) && close(films[1].bore.c_m, 25e-6));
     assert!(close(films[0].eta_pa_s, 2e-5) && close(films[1].eta_pa_s, 2e-5));
     s.fmu_parameters = vec![("film.viscosity".into(), "1".into())];
     assert!(params_of(&s).unwrap_err().contains("viscosity"));

@@ -66,14 +66,14 @@ pub fn fmus(glibc: Option<&str>) -> Result<(), String> {
             root().join("target/x86_64-unknown-linux-gnu/release")
         }
     };
-    // One build per FMU: the rotor links the air-film library for its contact law, and a
-    // single build would unify the features, put the air film's fmi2* exports into rotor.so
-    // and fail on duplicate symbols.
+    // One build for all FMUs: no FMU crate links another (the rotor and the air film share
+    // the `bearing` library, which exports nothing), so unified features put each crate's
+    // fmi2* exports into its own library only. tests/fmu_binaries.rs checks the export lists.
     for (pkg, ..) in &table {
-        let mut one = clone_command(&cmd);
-        one.args(["-p", pkg, "--features", &format!("{pkg}/fmu")]);
-        run(&format!("build FMU binary {pkg}"), &mut one)?;
+        cmd.args(["-p", pkg]);
     }
+    cmd.args(["--features", &features()]);
+    run("build FMU binaries", &mut cmd)?;
     let out_dir = root().join("target/fmu");
     std::fs::create_dir_all(&out_dir).map_err(|e| e.to_string())?;
     for (_, stem, info, _) in &table {
@@ -136,11 +136,4 @@ pub fn descriptions(check: bool) -> Result<(), String> {
         }
     }
     Ok(())
-}
-
-/// A fresh command with the program and arguments of `cmd` (Command is not Clone).
-fn clone_command(cmd: &std::process::Command) -> std::process::Command {
-    let mut c = std::process::Command::new(cmd.get_program());
-    c.args(cmd.get_args());
-    c
 }

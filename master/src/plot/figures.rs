@@ -2,8 +2,8 @@
 
 use super::axes::{decimate_minmax, Axes};
 use super::canvas::{Anchor, Canvas, Item, Rgb, Role};
-use super::LobeGeometry;
 use crate::analysis::{spectrogram, Bearing, Classification, RunSeries};
+use bearing::Bore;
 
 const W: u32 = 900;
 const H: u32 = 500;
@@ -233,7 +233,7 @@ pub fn waterfall(series: &RunSeries, b: Bearing) -> Canvas {
 }
 
 /// Relative journal orbit dx, dy in um with the lobe contours and the clearance circle.
-pub fn orbit(series: &RunSeries, b: Bearing, lobes: &LobeGeometry) -> Canvas {
+pub fn orbit(series: &RunSeries, b: Bearing, lobes: &Bore) -> Canvas {
     let (dx, dy) = series.rel(b);
     let stride = dx.len().div_ceil(MAX_ORBIT_POINTS).max(1);
     let pts: Vec<(f64, f64)> = dx
@@ -264,13 +264,13 @@ pub fn orbit(series: &RunSeries, b: Bearing, lobes: &LobeGeometry) -> Canvas {
 /// whole contours (radius up to C + dH) or, with `half_width_um`, that half width (the contours cut
 /// at the frame). The caller draws its data into the returned axes.
 pub fn bearing_frame(
-    lobes: &LobeGeometry,
+    lobes: &Bore,
     pts: &[(f64, f64)],
     half_width_um: Option<f64>,
     title: &str,
 ) -> (Canvas, Axes) {
     let contours: Vec<Vec<(f64, f64)>> = lobes
-        .contours_m(60)
+        .closure_contours_m(60)
         .into_iter()
         .map(|l| l.into_iter().map(|(x, y)| (x * 1e6, y * 1e6)).collect())
         .collect();

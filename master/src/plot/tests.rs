@@ -19,8 +19,8 @@ fn count(doc: &roxmltree::Document, tag: &str, class: &str) -> usize {
 
 #[test]
 fn lobe_contours_close_at_c_on_trailing_edges_and_open_to_c_plus_dh() {
-    let g = LobeGeometry::paper();
-    let lobes = g.contours_m(50);
+    let g = Bore::paper();
+    let lobes = g.closure_contours_m(50);
     assert_eq!(lobes.len(), 3);
     for (k, l) in lobes.iter().enumerate() {
         let lead = l[0];
@@ -42,14 +42,6 @@ fn lobe_contours_close_at_c_on_trailing_edges_and_open_to_c_plus_dh() {
             .windows(2)
             .all(|w| w[1].0.hypot(w[1].1) < w[0].0.hypot(w[0].1)));
     }
-}
-
-#[test]
-fn lobe_geometry_of_the_paper_bearing_is_the_paper_geometry() {
-    assert_eq!(
-        LobeGeometry::of_bearing(&fmu_airfilm::BearingParams::paper()),
-        LobeGeometry::paper()
-    );
 }
 
 #[test]
@@ -75,7 +67,7 @@ fn runup_figures_are_written_well_formed_with_their_series() {
     let keep = std::env::var_os("AIRRING_PLOT_DIR").map(PathBuf::from);
     let dir = keep.clone().unwrap_or_else(|| temp_dir("runup"));
     std::fs::create_dir_all(&dir).unwrap();
-    let files = plot_runup(&s, &cl, &LobeGeometry::paper(), &dir).unwrap();
+    let files = plot_runup(&s, &cl, &Bore::paper(), &dir).unwrap();
     let stems = [
         "eps",
         "y_journal",
@@ -130,7 +122,7 @@ fn stable_run_has_no_onset_marker() {
     let s = base(1e-4, 1.0);
     let cl = classify(&s);
     let dir = temp_dir("stable");
-    plot_runup(&s, &cl, &LobeGeometry::paper(), &dir).unwrap();
+    plot_runup(&s, &cl, &Bore::paper(), &dir).unwrap();
     let text = std::fs::read_to_string(dir.join("eps.svg")).unwrap();
     let doc = roxmltree::Document::parse(&text).unwrap();
     assert_eq!(count(&doc, "polyline", "marker"), 0);

@@ -2,7 +2,6 @@
 //! the figures (Campbell, damping, journal locus, eccentricity).
 
 use super::{analyse, parse_speeds, StabilityReport};
-use crate::plot::LobeGeometry;
 use crate::runup::RunupSettings;
 use std::path::PathBuf;
 
@@ -163,7 +162,7 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
         std::fs::write(&path, serde_json::to_string_pretty(&v).unwrap())
             .map_err(|e| format!("{}: {e}", path.display()))?;
         // Both films share the bore unless --set gives film_T another one: draw bearing C's.
-        let lobes = LobeGeometry::of_bearing(&super::params_of(&s)?.1[0]);
+        let lobes = super::params_of(&s)?.1[0].bore.clone();
         let figs = super::figures::save(&r, &lobes, dir).map_err(|e| e.to_string())?;
         println!("wrote {} and {} figure files", path.display(), figs.len());
     }

@@ -107,13 +107,13 @@ pub fn solve_bearing(
             (k[0][0] * r[1] - k[1][0] * r[0]) / det,
         ];
         // Damping: at most 0.2 C per step, and keep the journal off the ring surface.
-        let big = delta[0].hypot(delta[1]) / (0.2 * prm.c_m);
+        let big = delta[0].hypot(delta[1]) / (0.2 * prm.bore.c_m);
         if big > 1.0 {
             delta = [delta[0] / big, delta[1] / big];
         }
         for _ in 0..30 {
             let trial = JournalState::at(d[0] + delta[0], d[1] + delta[1], omega_rad_s);
-            if min_gap_m(prm, &trial) > 0.5 * prm.h_con_rel * prm.c_m {
+            if min_gap_m(&prm.bore, &trial) > 0.5 * prm.contact.h_con_rel * prm.bore.c_m {
                 break;
             }
             delta = [0.5 * delta[0], 0.5 * delta[1]];

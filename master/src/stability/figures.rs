@@ -5,8 +5,9 @@
 
 use super::StabilityReport;
 use crate::plot::axes::Axes;
+use crate::plot::bearing_frame;
 use crate::plot::canvas::{Anchor, Canvas, Rgb, Role};
-use crate::plot::{bearing_frame, LobeGeometry};
+use bearing::Bore;
 use std::path::{Path, PathBuf};
 
 const W: u32 = 900;
@@ -171,7 +172,7 @@ const BEARINGS: [(&str, Rgb); 2] = [("bearing C", PALETTE[0]), ("bearing T", PAL
 
 /// Journal centre relative to its ring [um] at the static equilibrium, over the speed range, in
 /// the bore (clearance circle, lobe contours); the lowest and highest speeds are labelled.
-pub fn locus(r: &StabilityReport, lobes: &LobeGeometry) -> Canvas {
+pub fn locus(r: &StabilityReport, lobes: &Bore) -> Canvas {
     let loci: Vec<Vec<(f64, f64)>> = (0..2)
         .map(|b| {
             r.speeds
@@ -241,11 +242,7 @@ pub fn eccentricity(r: &StabilityReport) -> Canvas {
 }
 
 /// Write campbell, damping, locus and eccentricity (.svg and .png each) into `dir`.
-pub fn save(
-    r: &StabilityReport,
-    lobes: &LobeGeometry,
-    dir: &Path,
-) -> std::io::Result<Vec<PathBuf>> {
+pub fn save(r: &StabilityReport, lobes: &Bore, dir: &Path) -> std::io::Result<Vec<PathBuf>> {
     let mut out = campbell(r).save(dir, "campbell")?;
     out.extend(damping(r).save(dir, "damping")?);
     out.extend(locus(r, lobes).save(dir, "locus")?);

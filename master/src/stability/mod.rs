@@ -131,7 +131,7 @@ fn equilibria(
                 let j = w[i].journal;
                 ([j.dx_m, j.dy_m], Some(w[i].lin.steady()))
             }
-            None => ([0.0, -0.2 * films[i].c_m], None),
+            None => ([0.0, -0.2 * films[i].bore.c_m], None),
         };
         solve_bearing(
             &films[i],
