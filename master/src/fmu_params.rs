@@ -174,7 +174,7 @@ pub fn check_key(key: &str) -> Result<(), String> {
 /// "number" (SI) or "number unit" (the SI unit or one of its declared display units) -> SI.
 fn real_si(var: &fmi2::Variable, t: &str) -> Result<f64, String> {
     let (num, unit) =
-        crate::system::split_quantity(t).ok_or("expected 'number' or 'number unit'")?;
+        cosim::system::split_quantity(t).ok_or("expected 'number' or 'number unit'")?;
     let si = if unit.is_empty() || Some(unit) == var.unit {
         num
     } else {

@@ -1,17 +1,18 @@
-//! The `airring` co-simulation master as a library: system files, the Gauss-Seidel/Jacobi algorithms,
-//! result output, run-up analysis and plots. `main.rs` is only the command line.
+//! The AirRing application as a library: the paper's run-ups on the generic `cosim` master,
+//! their analysis and plots, sweeps, the linear stability analysis, modal analysis, orbits.
+//! `main.rs` is only the command line.
 
 pub mod analysis;
-pub mod cosim;
+pub mod export_ssp;
 pub mod fmu_params;
 pub mod modal;
 pub mod orbit;
 pub mod output;
 pub mod plot;
 pub mod run;
+pub mod run_folder;
 pub mod runup;
-pub mod ssp;
 pub mod stability;
+pub mod summary;
 pub mod sweep;
 pub mod sweep_linear;
-pub mod system;

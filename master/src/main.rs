@@ -215,7 +215,7 @@ enum Command {
     /// feeds airfilm.fmu (cross-check; see docs/fmu-guide.md).
     Orbit(master::orbit::OrbitArgs),
     /// Write a system file as an SSP 1.0 archive (SystemStructure.ssd + the FMUs) for other tools.
-    ExportSsp(master::ssp::ExportSspArgs),
+    ExportSsp(master::export_ssp::ExportSspArgs),
 }
 
 #[derive(clap::Args, Clone)]
@@ -346,16 +346,16 @@ fn stop_flag() -> Arc<AtomicBool> {
 }
 
 fn finish(report: master::run::RunReport, out: &Path) -> ExitCode {
-    let summary = std::fs::read_to_string(out.join("summary.json")).unwrap_or_default();
-    let v: serde_json::Value = serde_json::from_str(&summary).unwrap_or_default();
+    let s = master::summary::RunSummary::read(out).unwrap_or_default();
     eprintln!(
         "{}: {} macro steps to t = {:.4} s in {:.1} s wall; classification: {}, onset: {} s",
         out.display(),
         report.macro_steps,
         report.t_end_s,
         report.wall_time_s,
-        v["classification"],
-        v["onset_time_s"]
+        s.classification
+            .map_or("null".to_string(), |c| format!("\"{c}\"")),
+        s.onset_time_s.map_or("null".to_string(), |t| t.to_string())
     );
     match report.error {
         Some(e) => {
@@ -368,17 +368,25 @@ fn finish(report: master::run::RunReport, out: &Path) -> ExitCode {
 }
 
 fn classify_command(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, String> {
-    let from_summary = || -> Option<f64> {
-        let text = std::fs::read_to_string(dir.join("summary.json")).ok()?;
-        let v: serde_json::Value = serde_json::from_str(&text).ok()?;
-        v["settings"]["clearance_um"].as_f64()
+    // Each bearing's clearance: the flag, else the run folder's own system file (never a default).
+    let c_m = match clearance_um {
+        Some(c) => [c / 1e6; 2],
+        None => match master::run_folder::bores_of_run(dir)? {
+            Some([c, t]) => [c.c_m, t.c_m],
+            None => {
+                return Err(format!(
+                    "{}: its system.toml has no air films film_C and film_T to take the \
+                     clearance from; give it with --clearance UM",
+                    dir.display()
+                ))
+            }
+        },
     };
-    let c_um = clearance_um.or_else(from_summary).unwrap_or(20.0);
-    let series = master::analysis::load_run(dir, c_um / 1e6)?;
+    let series = master::analysis::load_run(dir, c_m)?;
     let cl = master::analysis::classify(&series);
     let out = serde_json::json!({
         "run": dir.display().to_string(),
-        "clearance_um": c_um,
+        "clearance_um": { "C": c_m[0] * 1e6, "T": c_m[1] * 1e6 },
         "classification": cl.class.as_str(),
         "onset_time_s": cl.onset_time_s,
         "onset_speed_hz": cl.onset_speed_hz,
@@ -491,11 +499,31 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
     )
 }
 
+/// Commands whose product is their standard output end quietly when the reader goes away
+/// (`airring classify DIR | head -c1`), as Unix filters do, instead of panicking on EPIPE: the
+/// default SIGPIPE action. Run-ups keep Rust's ignored SIGPIPE: they write files, not stdout,
+/// and must reach their checkpoint and summary even if the terminal's pipe closes.
+fn quiet_on_closed_stdout(command: &Command) {
+    let filter = match command {
+        Command::Classify { .. } | Command::Modal { .. } | Command::Stability(_) => true,
+        Command::Sweep { list, .. } => *list,
+        _ => false,
+    };
+    if filter {
+        // SAFETY: called once at start-up, before any thread exists; SIG_DFL is a valid action.
+        unsafe {
+            libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    quiet_on_closed_stdout(&cli.command);
     let result: Result<ExitCode, String> = (|| match cli.command {
         Command::Runup { args, common } => {
             let s = settings(&args)?;
+            s.validate_runup()?;
             let dir = fmu_dir(args.fmu_dir.clone())?;
             let out = common.out.clone().unwrap_or_else(|| default_out(&s.preset));
             std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
@@ -513,7 +541,7 @@ fn main() -> ExitCode {
                 halt_at_s: None,
                 quiet: common.quiet,
                 extra: serde_json::to_value(&s).unwrap_or_default(),
-                lobes: Some(lobes(s.clearance_um, s.dh_um)),
+                bores: None,
                 parquet: common.parquet,
             };
             let report = run(&sys_path, &opts, false)?;
@@ -535,7 +563,10 @@ fn main() -> ExitCode {
                 halt_at_s: None,
                 quiet: common.quiet,
                 extra: serde_json::json!({ "system": system }),
-                lobes: clearance.map(|c| lobes(c, dh.unwrap_or(40.0))),
+                bores: clearance.map(|c| {
+                    let b = lobes(c, dh.unwrap_or(40.0));
+                    [b.clone(), b]
+                }),
                 parquet: common.parquet,
             };
             let report = run(&system, &opts, false)?;
@@ -546,21 +577,16 @@ fn main() -> ExitCode {
             checkpoint_every,
             parquet,
         } => {
-            let old: serde_json::Value = std::fs::read_to_string(dir.join("summary.json"))
-                .ok()
-                .and_then(|s| serde_json::from_str(&s).ok())
-                .unwrap_or_default();
-            let geometry = old["settings"]["clearance_um"]
-                .as_f64()
-                .map(|c| lobes(c, old["settings"]["dh_um"].as_f64().unwrap_or(40.0)));
+            let old = master::summary::RunSummary::read(&dir).unwrap_or_default();
             let opts = RunOptions {
                 out_dir: dir.clone(),
                 checkpoint_every_s: checkpoint_every,
                 stop: stop_flag(),
                 halt_at_s: None,
                 quiet: false,
-                extra: old["settings"].clone(),
-                lobes: geometry,
+                extra: old.settings,
+                // The bores come from the run folder's own system file.
+                bores: None,
                 // A run that wrote Parquet goes on writing it.
                 parquet: parquet || dir.join("timeseries.parquet").exists(),
             };
@@ -626,7 +652,7 @@ fn main() -> ExitCode {
         }
         Command::Classify { dir, clearance } => classify_command(&dir, clearance),
         Command::Orbit(args) => master::orbit::run_cli(&args).map(|_| ExitCode::SUCCESS),
-        Command::ExportSsp(args) => master::ssp::run_cli(&args).map(|_| ExitCode::SUCCESS),
+        Command::ExportSsp(args) => master::export_ssp::run_cli(&args).map(|_| ExitCode::SUCCESS),
     })();
     match result {
         Ok(code) => code,

@@ -243,7 +243,7 @@ pub fn set_param(store: &mut fmi2::Store, spec: &str) -> Result<(), String> {
             store.integers[var.vr as usize] = value.parse().map_err(|_| bad("an integer"))?
         }
         VarType::Real => {
-            let (num, unit) = crate::system::split_quantity(value)
+            let (num, unit) = cosim::system::split_quantity(value)
                 .ok_or_else(|| bad("a number, optionally with a unit"))?;
             let si = if unit.is_empty() || Some(unit) == var.unit {
                 num

@@ -144,12 +144,67 @@ impl RunupSettings {
         Ok(())
     }
 
-    /// The extra FMU parameters, checked against the FMUs' variable tables.
+    /// `validate`, and what only a co-simulated run-up needs: with the contact in the rotor, both
+    /// films share one bore and contact law (the rotor FMU has one contact geometry for both
+    /// bearings). The linear analysis takes each film's own and needs only `validate`.
+    pub fn validate_runup(&self) -> Result<(), String> {
+        self.validate()?;
+        self.check_contact_geometry()
+    }
+
+    /// The extra FMU parameters, checked against the FMUs' variable tables. The rotor's
+    /// contact geometry (`bearing_*`) is refused: a run-up derives it from the air films.
     pub fn checked_fmu_parameters(&self) -> Result<Vec<FmuParameter>, String> {
         self.fmu_parameters
             .iter()
-            .map(|(k, v)| FmuParameter::parse(k, v))
+            .map(|(k, v)| {
+                let p = FmuParameter::parse(k, v)?;
+                if p.target == crate::fmu_params::Target::Rotor && p.name.starts_with("bearing_") {
+                    let film_name = p.name.trim_start_matches("bearing_");
+                    return Err(format!(
+                        "{k}: a run-up derives the rotor's contact geometry from the air films; \
+                         set film.{film_name} (both bearings) or film_C.{film_name} / \
+                         film_T.{film_name} instead{}",
+                        match film_name {
+                            "C" => " (or --clearance)",
+                            "dH" => " (or --dh)",
+                            _ => "",
+                        }
+                    ));
+                }
+                Ok(p)
+            })
             .collect()
+    }
+
+    /// The two air films' parameters [C, T] as the run-up's system file gives them (the run-up's
+    /// own, then `--set` ones), mapped by the film FMU's own `params_from`.
+    pub fn film_params(&self) -> Result<[fmu_airfilm::BearingParams; 2], String> {
+        let film = |inst: &str| -> Result<fmu_airfilm::BearingParams, String> {
+            let store = crate::fmu_params::store_for(inst, &self.instance_parameters(inst))?;
+            Ok(fmu_airfilm::shell::params_from(&store))
+        };
+        Ok([film("film_C")?, film("film_T")?])
+    }
+
+    /// See `validate_runup`.
+    fn check_contact_geometry(&self) -> Result<(), String> {
+        if self.contact != ContactSide::Rotor {
+            return Ok(());
+        }
+        let [c, t] = self.film_params()?;
+        if c.bore != t.bore || c.contact != t.contact {
+            return Err(format!(
+                "film_C and film_T differ in their bore or contact law (C {} um / {} um, dH {} um / \
+                 {} um): the rotor's contact (--contact rotor, the default) has one geometry for \
+                 both bearings; run with --contact film to give each bearing its own",
+                c.bore.c_m * 1e6,
+                t.bore.c_m * 1e6,
+                c.bore.dh_m * 1e6,
+                t.bore.dh_m * 1e6
+            ));
+        }
+        Ok(())
     }
 
     /// The rotor's parameters of this run-up as (name, TOML literal), before `fmu_parameters`.
@@ -179,10 +234,14 @@ impl RunupSettings {
             ("disturbance_seed", self.disturbance_seed.to_string()),
         ];
         if self.contact == ContactSide::Rotor {
-            // The rotor evaluates the contact on the films' geometry (paper defaults otherwise).
+            // The rotor evaluates the contact on the films' own bore and contact law, derived
+            // from the films' final parameters (including `--set film.C=...`), so the two cannot
+            // disagree. One bore serves both bearings in the rotor FMU: `validate` refuses films
+            // whose bores differ.
             v.push(("contact", "true".into()));
-            v.push(("bearing_C", format!("\"{} um\"", self.clearance_um)));
-            v.push(("bearing_dH", format!("\"{} um\"", self.dh_um)));
+            if let Ok([film_c, _]) = self.film_params() {
+                v.extend(rotor_contact_parameters(&film_c.bore, &film_c.contact));
+            }
         }
         v.into_iter().map(|(k, x)| (k.to_string(), x)).collect()
     }
@@ -301,6 +360,26 @@ impl RunupSettings {
     }
 }
 
+/// The rotor's contact-geometry parameters (`bearing_*`, in SI, exact) for a film's bore and
+/// contact law.
+fn rotor_contact_parameters(
+    bore: &bearing::Bore,
+    law: &bearing::ContactLaw,
+) -> Vec<(&'static str, String)> {
+    vec![
+        ("bearing_r", format!("{:?}", bore.r_m)),
+        ("bearing_b", format!("{:?}", bore.b_m)),
+        ("bearing_C", format!("{:?}", bore.c_m)),
+        ("bearing_dH", format!("{:?}", bore.dh_m)),
+        ("bearing_phi_t", format!("{:?}", bore.phi_t_rad)),
+        ("bearing_alpha", format!("{:?}", bore.alpha_rad)),
+        ("bearing_n_lobes", bore.n_lobes.to_string()),
+        ("bearing_plain_bore", bore.plain_bore.to_string()),
+        ("bearing_h_con_rel", format!("{:?}", law.h_con_rel)),
+        ("bearing_c_con", format!("{:?}", law.c_con_n_per_m3)),
+    ]
+}
+
 /// "X,Y" as two numbers (spaces allowed).
 fn number_pair(text: &str) -> Option<(f64, f64)> {
     let (x, y) = text.split_once(',')?;
@@ -315,8 +394,7 @@ pub fn parse_step_control(text: &str) -> Result<Option<[f64; 2]>, String> {
     let (r, a) = number_pair(text).ok_or_else(|| {
         format!("--step-control '{text}': expected RTOL,ATOL_N (e.g. 0.1,1) or off")
     })?;
-    let c = crate::cosim::gauss_seidel::StepControl::new(r, a)
-        .map_err(|e| format!("--step-control '{text}': {e}"))?;
+    let c = cosim::StepControl::new(r, a).map_err(|e| format!("--step-control '{text}': {e}"))?;
     Ok(Some([c.rtol, c.atol]))
 }
 
@@ -438,17 +516,24 @@ mod tests {
         s.dh_um = 0.0;
         s.contact = ContactSide::Rotor;
         let text = s.system_toml("fmus");
-        // The rotor gets the films' clearance and step height; both films leave it out.
-        assert!(
-            text.contains(", contact = true, bearing_C = \"15 um\", bearing_dH = \"0 um\" }"),
-            "{text}"
-        );
+        // The rotor gets the films' whole bore and contact law, bit for bit; both films leave
+        // the contact out of their force.
+        assert!(text.contains(", contact = true, bearing_r = "), "{text}");
+        let store = |inst: &str| crate::fmu_params::store_for(inst, &s.instance_parameters(inst));
+        let rotor = fmu_rotor::shell::params_from(&store("rotor").unwrap());
+        let film = fmu_airfilm::shell::params_from(&store("film_C").unwrap());
+        let [c, t] = rotor.contact.expect("contact in the rotor");
+        assert_eq!(c, t);
+        assert_eq!(c.bore, film.bore);
+        assert_eq!(c.law, film.contact);
+        assert_eq!(film.bore.c_m, 15e-6);
+        assert_eq!(film.bore.dh_m, 0.0);
         assert_eq!(
             text.matches("contact_in_force = false").count(),
             2,
             "{text}"
         );
-        let sys = crate::system::System::parse(std::path::Path::new("s.toml"), text).unwrap();
+        let sys = cosim::system::System::parse(std::path::Path::new("s.toml"), text).unwrap();
         assert_eq!(sys.file.fmu.len(), 3);
         s.contact = ContactSide::Film;
         let text = s.system_toml("fmus");

@@ -64,12 +64,12 @@ fn drop_c30(
         halt_at_s: None,
         quiet: true,
         extra: serde_json::Value::Null,
-        lobes: None,
+        bores: None,
         parquet: false,
     };
     let report = run(&sys, &opts, false).unwrap();
     assert!(report.completed, "{name}: {report:?}");
-    let (header, rows) = master::output::timeseries::read(&dir.join("timeseries.csv")).unwrap();
+    let (header, rows) = cosim::timeseries::read(&dir.join("timeseries.csv")).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
     (report, Series { header, rows })
 }

@@ -2,8 +2,8 @@
 //! against the exact solution of two coupled oscillators, discard roll-back, system-file errors.
 //! Build the FMUs first: `cargo xtask fmus`.
 
+use cosim::system::System;
 use master::run::{run, RunOptions};
-use master::system::System;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::AtomicBool;
 use std::sync::Arc;
@@ -35,7 +35,7 @@ fn opts(out: &Path) -> RunOptions {
         halt_at_s: None,
         quiet: true,
         extra: serde_json::Value::Null,
-        lobes: None,
+        bores: None,
         parquet: false,
     }
 }
@@ -94,7 +94,7 @@ fn max_error(name: &str, kind: &str, h: f64, order: u8) -> f64 {
     .unwrap();
     let report = run(&sys, &opts(&dir), false).unwrap();
     assert!(report.completed, "{report:?}");
-    let (_, rows) = master::output::timeseries::read(&dir.join("timeseries.csv")).unwrap();
+    let (_, rows) = cosim::timeseries::read(&dir.join("timeseries.csv")).unwrap();
     assert_eq!(rows.len(), 51);
     assert!((rows.last().unwrap()[0] - 1.0).abs() < 1e-12);
     let _ = std::fs::remove_dir_all(&dir);
@@ -142,7 +142,7 @@ fn discarded_steps_are_rolled_back_and_retried_in_halves() {
     );
     // The same as a run with 2.5 ms steps throughout? Not exactly (the partner keeps 2.5 ms only in
     // retried steps), but close to the exact solution:
-    let (_, rows) = master::output::timeseries::read(&dir.join("timeseries.csv")).unwrap();
+    let (_, rows) = cosim::timeseries::read(&dir.join("timeseries.csv")).unwrap();
     assert!((rows.last().unwrap()[1] - exact_xa(0.2)).abs() < 1e-4);
 }
 
@@ -163,7 +163,7 @@ fn run_text(name: &str, text: &str) -> (master::run::RunReport, Vec<Vec<f64>>) {
     std::fs::write(&sys, text).unwrap();
     let report = run(&sys, &opts(&dir), false).unwrap();
     assert!(report.completed, "{report:?}");
-    let (_, rows) = master::output::timeseries::read(&dir.join("timeseries.csv")).unwrap();
+    let (_, rows) = cosim::timeseries::read(&dir.join("timeseries.csv")).unwrap();
     let _ = std::fs::remove_dir_all(&dir);
     (report, rows)
 }
@@ -185,7 +185,7 @@ fn parquet_holds_the_same_rows_as_the_csv_after_a_resume() {
     assert!(dir.join("timeseries.parquet").exists());
     o.halt_at_s = None;
     assert!(run(&dir.join("system.toml"), &o, true).unwrap().completed);
-    let (header, rows) = master::output::timeseries::read(&dir.join("timeseries.csv")).unwrap();
+    let (header, rows) = cosim::timeseries::read(&dir.join("timeseries.csv")).unwrap();
     let reader =
         SerializedFileReader::new(std::fs::File::open(dir.join("timeseries.parquet")).unwrap())
             .unwrap();
@@ -226,7 +226,7 @@ fn a_failed_parquet_write_is_reported_and_the_summary_still_written() {
         .as_str()
         .unwrap()
         .contains("timeseries.parquet"));
-    let (_, rows) = master::output::timeseries::read(&dir.join("timeseries.csv")).unwrap();
+    let (_, rows) = cosim::timeseries::read(&dir.join("timeseries.csv")).unwrap();
     assert!(
         (rows.last().unwrap()[0] - 0.05).abs() < 1e-12,
         "CSV kept to the end"
@@ -303,7 +303,7 @@ fn a_step_that_always_fails_stops_the_run_with_the_reason() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["status"], "failed");
     // Nothing lost: the series up to the failure is on disk.
-    let (_, rows) = master::output::timeseries::read(&dir.join("timeseries.csv")).unwrap();
+    let (_, rows) = cosim::timeseries::read(&dir.join("timeseries.csv")).unwrap();
     assert!(!rows.is_empty());
 }
 
@@ -358,12 +358,10 @@ fn system_file_errors_name_file_line_and_field() {
         std::fs::write(&path, text).unwrap();
         let err = match System::load(&path) {
             Err(e) => e.to_string(),
-            Ok(sys) => {
-                match master::cosim::build(&sys, Arc::new(|_: &fmi2::importer::LogRecord| {})) {
-                    Err(e) => e.to_string(),
-                    Ok(_) => String::from("(no error)"),
-                }
-            }
+            Ok(sys) => match cosim::build(&sys, Arc::new(|_: &fmi2::importer::LogRecord| {})) {
+                Err(e) => e.to_string(),
+                Ok(_) => String::from("(no error)"),
+            },
         };
         assert!(err.contains(want), "case {k}: got '{err}', want '{want}'");
         assert!(

@@ -430,8 +430,9 @@ fn sigterm_interrupts_a_sweep_and_the_next_sweep_resumes_from_the_checkpoint() {
 }
 
 /// `airring runup --set` reaches the FMU: with film_T's clearance set to 25 um (film_C keeps the
-/// preset's 20 um), each film's reported eccentricity is its journal's displacement over its own
-/// clearance. A parameter the FMU does not have stops the run-up before it starts, naming it.
+/// preset's 20 um; per-bearing geometry needs the contact in the films), each film's reported
+/// eccentricity is its journal's displacement over its own clearance. A parameter the FMU does
+/// not have stops the run-up before it starts, naming it.
 #[test]
 fn set_flags_reach_the_fmus() {
     let dir = tmp("set");
@@ -441,6 +442,8 @@ fn set_flags_reach_the_fmus() {
         "0.004",
         "--mesh",
         "8x2",
+        "--contact",
+        "film",
         "--set",
         "film_T.C=25 um",
         "--quiet",

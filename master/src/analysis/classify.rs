@@ -111,19 +111,30 @@ pub struct Classification {
     pub criteria: String,
 }
 
+/// The onset thresholds in um: one figure when both bearings share it, else C and T.
+fn threshold_text(thr: [f64; 2]) -> String {
+    if thr[0] == thr[1] {
+        format!("{:.3} um", thr[0] * 1e6)
+    } else {
+        format!("C {:.3} um, T {:.3} um", thr[0] * 1e6, thr[1] * 1e6)
+    }
+}
+
 /// Classify one run-up (see the module documentation for the criteria).
 pub fn classify(series: &RunSeries) -> Classification {
     series.check();
-    let c = series.clearance_m;
+    // Thresholds scale with each bearing's own clearance.
+    let cl = series.clearance_m;
     let spin = series.spin_angle_rad();
-    let thr = onset::ONSET_AMP_REL * c;
+    let thr = cl.map(|c| onset::ONSET_AMP_REL * c);
     let tracks: Vec<OscTrack> = Bearing::BOTH
         .iter()
         .map(|b| onset::oscillation_track(series, *b, &spin, onset::AMP_WINDOW_S, onset::AMP_HOP_S))
         .collect();
     let onsets: Vec<Option<f64>> = tracks
         .iter()
-        .map(|tr| onset::sustained_onset(tr, thr, onset::MIN_PERSIST_S, onset::GAP_BRIDGE_S))
+        .zip(thr)
+        .map(|(tr, thr)| onset::sustained_onset(tr, thr, onset::MIN_PERSIST_S, onset::GAP_BRIDGE_S))
         .collect();
     let eps = [series.eps(Bearing::C), series.eps(Bearing::T)];
     let top_hz = series.max_speed_hz();
@@ -177,14 +188,14 @@ pub fn classify(series: &RunSeries) -> Classification {
             max_eps_t: m[1],
             whirl: Vec::new(),
             criteria: format!(
-                "stable: no oscillation about the quasi-static equilibrium above {} C ({:.3} um) lasting {} s at \
+                "stable: no oscillation about the quasi-static equilibrium above {} C ({}) lasting {} s at \
                  either bearing up to {:.0} Hz (largest after start-up: C {:.4} C, T {:.4} C)",
                 onset::ONSET_AMP_REL,
-                thr * 1e6,
+                threshold_text(thr),
                 onset::MIN_PERSIST_S,
                 top_hz,
-                max_after_startup(&tracks[0], series) / c,
-                max_after_startup(&tracks[1], series) / c,
+                max_after_startup(&tracks[0], series) / cl[0],
+                max_after_startup(&tracks[1], series) / cl[1],
             ),
         };
     };
@@ -325,11 +336,14 @@ struct Features {
 }
 
 fn features(whirl: &[WhirlSample], series: &RunSeries, eps: &[Vec<f64>; 2], t_on: f64) -> Features {
-    let c = series.clearance_m;
-    let active = WHIRL_ACTIVE_REL * c;
+    let cl = series.clearance_m;
+    let active = cl.map(|c| WHIRL_ACTIVE_REL * c);
     let mut feat = Features::default();
     for w in whirl {
-        feat.max_amp_rel = feat.max_amp_rel.max(w.amp_c_m.max(w.amp_t_m) / c);
+        feat.max_amp_rel = feat
+            .max_amp_rel
+            .max(w.amp_c_m / cl[0])
+            .max(w.amp_t_m / cl[1]);
     }
     for i in series.t_s.partition_point(|t| *t < t_on)..series.len() {
         feat.max_eps_after = feat.max_eps_after.max(eps[0][i]).max(eps[1][i]);
@@ -345,7 +359,7 @@ fn features(whirl: &[WhirlSample], series: &RunSeries, eps: &[Vec<f64>; 2], t_on
                 } else {
                     (w.f_t_hz, w.amp_t_m)
                 };
-                (a > active && f.abs() > 0.0 && w.speed_hz > 0.0)
+                (a > active[k] && f.abs() > 0.0 && w.speed_hz > 0.0)
                     .then(|| (w.speed_hz.ln(), f.abs().ln()))
             })
             .collect();
@@ -370,7 +384,7 @@ fn features(whirl: &[WhirlSample], series: &RunSeries, eps: &[Vec<f64>; 2], t_on
     let bin_hz = 1.0 / WHIRL_WINDOW_S;
     let joint: Vec<&WhirlSample> = whirl
         .iter()
-        .filter(|w| w.amp_c_m > active && w.amp_t_m > active)
+        .filter(|w| w.amp_c_m > active[0] && w.amp_t_m > active[1])
         .collect();
     if !joint.is_empty() {
         let split = joint

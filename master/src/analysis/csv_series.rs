@@ -16,10 +16,10 @@ const NEEDED: [&str; 7] = [
     "rotor.y_JT",
 ];
 
-/// Parses `timeseries.csv` text (first column time [s]); `clearance_m` is the bearings' C.
-pub fn series_from_csv(text: &str, clearance_m: f64) -> Result<RunSeries, String> {
-    if !(clearance_m.is_finite() && clearance_m > 0.0) {
-        return Err(format!("clearance {clearance_m} m must be positive"));
+/// Parses `timeseries.csv` text (first column time [s]); `clearance_m` is each bearing's C [C, T].
+pub fn series_from_csv(text: &str, clearance_m: [f64; 2]) -> Result<RunSeries, String> {
+    if !clearance_m.iter().all(|c| c.is_finite() && *c > 0.0) {
+        return Err(format!("clearances {clearance_m:?} m must be positive"));
     }
     let mut lines = text.lines();
     let header: Vec<&str> = lines
@@ -82,7 +82,7 @@ pub fn series_from_csv(text: &str, clearance_m: f64) -> Result<RunSeries, String
 }
 
 /// Reads `DIR/timeseries.csv`.
-pub fn load_run(dir: &Path, clearance_m: f64) -> Result<RunSeries, String> {
+pub fn load_run(dir: &Path, clearance_m: [f64; 2]) -> Result<RunSeries, String> {
     let p = dir.join("timeseries.csv");
     let text = std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))?;
     series_from_csv(&text, clearance_m).map_err(|e| format!("{}: {e}", p.display()))
@@ -112,7 +112,7 @@ mod tests {
 
     #[test]
     fn reads_columns_by_name_whatever_their_order() {
-        let r = series_from_csv(&csv(20), 20e-6).unwrap();
+        let r = series_from_csv(&csv(20), [20e-6; 2]).unwrap();
         assert_eq!(r.t_s.len(), 20);
         assert_eq!(r.dy_t_m[3], -4e-6);
         assert_eq!(r.y_jt_m[0], -6e-6);
@@ -121,15 +121,15 @@ mod tests {
 
     #[test]
     fn bad_files_are_clear_errors() {
-        assert!(series_from_csv(&csv(5), 20e-6)
+        assert!(series_from_csv(&csv(5), [20e-6; 2])
             .unwrap_err()
             .contains("too short"));
         let missing = csv(20).replace("rotor.y_JT [m]", "other [m]");
-        assert!(series_from_csv(&missing, 20e-6)
+        assert!(series_from_csv(&missing, [20e-6; 2])
             .unwrap_err()
             .contains("rotor.y_JT"));
         let nan = csv(20).replacen("0.001,", "NaN,", 1);
-        assert!(series_from_csv(&nan, 20e-6).is_err());
-        assert!(series_from_csv(&csv(20), 0.0).is_err());
+        assert!(series_from_csv(&nan, [20e-6; 2]).is_err());
+        assert!(series_from_csv(&csv(20), [20e-6, 0.0]).is_err());
     }
 }

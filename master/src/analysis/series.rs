@@ -15,8 +15,9 @@ pub struct RunSeries {
     pub dy_t_m: Vec<f64>,
     pub y_jc_m: Vec<f64>,
     pub y_jt_m: Vec<f64>,
-    /// Nominal (minimum) radial clearance C; eccentricities are |dr| / C.
-    pub clearance_m: f64,
+    /// Nominal (minimum) radial clearance C of each bearing [C, T]; a bearing's eccentricity is
+    /// its |dr| / C.
+    pub clearance_m: [f64; 2],
 }
 
 /// Which bearing.
@@ -63,12 +64,20 @@ impl RunSeries {
         }
     }
 
+    /// Nominal clearance C of one bearing [m].
+    pub fn clearance(&self, b: Bearing) -> f64 {
+        match b {
+            Bearing::C => self.clearance_m[0],
+            Bearing::T => self.clearance_m[1],
+        }
+    }
+
     /// Eccentricity ratio eps = |dr| / C per sample of one bearing.
     pub fn eps(&self, b: Bearing) -> Vec<f64> {
         let (dx, dy) = self.rel(b);
         dx.iter()
             .zip(dy)
-            .map(|(x, y)| x.hypot(*y) / self.clearance_m)
+            .map(|(x, y)| x.hypot(*y) / self.clearance(b))
             .collect()
     }
 
@@ -125,7 +134,7 @@ impl RunSeries {
             );
         }
         assert!(
-            self.clearance_m > 0.0,
+            self.clearance_m.iter().all(|c| *c > 0.0),
             "RunSeries::clearance_m must be positive"
         );
     }
@@ -159,7 +168,7 @@ mod tests {
         let s = RunSeries {
             omega_rad_s: t.iter().map(|t| 10.0 * t).collect(),
             t_s: t,
-            clearance_m: 1.0,
+            clearance_m: [1.0, 1.0],
             ..Default::default()
         };
         // phi = 5 t^2 for omega = 10 t; the trapezoidal rule is exact for a linear integrand.

@@ -27,7 +27,7 @@ impl Noise {
 pub fn base(dt_s: f64, t_end_s: f64) -> RunSeries {
     let n = (t_end_s / dt_s).round() as usize + 1;
     let mut s = RunSeries {
-        clearance_m: C_M,
+        clearance_m: [C_M; 2],
         ..Default::default()
     };
     let mut noise = Noise(0x9e37_79b9_7f4a_7c15);

@@ -1,6 +1,4 @@
-//! What a run leaves behind: the time series (CSV written as the run goes, optionally Parquet at
-//! the end), `summary.json`, and checkpoints from which `airring resume` continues.
+//! What a run leaves behind beyond the `cosim` library's time series and checkpoints: the
+//! optional Parquet copy of the series (written when the run ends).
 
-pub mod checkpoint;
 pub mod parquet_file;
-pub mod timeseries;

@@ -20,7 +20,7 @@ use bearing::Bore;
 pub fn plot_runup(
     series: &RunSeries,
     class: &Classification,
-    lobes: &Bore,
+    bores: &[Bore; 2],
     out_dir: &Path,
 ) -> std::io::Result<Vec<PathBuf>> {
     series.check();
@@ -32,7 +32,10 @@ pub fn plot_runup(
         (crate::analysis::Bearing::T, "T"),
     ] {
         out.extend(figures::waterfall(series, b).save(out_dir, &format!("waterfall_{name}"))?);
-        out.extend(figures::orbit(series, b, lobes).save(out_dir, &format!("orbit_{name}"))?);
+        out.extend(
+            figures::orbit(series, b, &bores[b as usize])
+                .save(out_dir, &format!("orbit_{name}"))?,
+        );
     }
     Ok(out)
 }

@@ -67,7 +67,7 @@ fn runup_figures_are_written_well_formed_with_their_series() {
     let keep = std::env::var_os("AIRRING_PLOT_DIR").map(PathBuf::from);
     let dir = keep.clone().unwrap_or_else(|| temp_dir("runup"));
     std::fs::create_dir_all(&dir).unwrap();
-    let files = plot_runup(&s, &cl, &Bore::paper(), &dir).unwrap();
+    let files = plot_runup(&s, &cl, &[Bore::paper(), Bore::paper()], &dir).unwrap();
     let stems = [
         "eps",
         "y_journal",
@@ -122,7 +122,7 @@ fn stable_run_has_no_onset_marker() {
     let s = base(1e-4, 1.0);
     let cl = classify(&s);
     let dir = temp_dir("stable");
-    plot_runup(&s, &cl, &Bore::paper(), &dir).unwrap();
+    plot_runup(&s, &cl, &[Bore::paper(), Bore::paper()], &dir).unwrap();
     let text = std::fs::read_to_string(dir.join("eps.svg")).unwrap();
     let doc = roxmltree::Document::parse(&text).unwrap();
     assert_eq!(count(&doc, "polyline", "marker"), 0);

@@ -26,14 +26,13 @@ use std::f64::consts::TAU;
 /// linearization has no contact of its own, wherever a run-up evaluates it.
 pub fn params_of(s: &RunupSettings) -> Result<(RotorParams, [BearingParams; 2]), String> {
     s.checked_fmu_parameters()?;
-    let store = |inst: &str| crate::fmu_params::store_for(inst, &s.instance_parameters(inst));
-    let rotor = fmu_rotor::shell::params_from(&store("rotor")?);
-    let film = |inst: &str| -> Result<BearingParams, String> {
-        let mut b = fmu_airfilm::shell::params_from(&store(inst)?);
-        b.contact_in_force = true;
-        Ok(b)
-    };
-    Ok((rotor, [film("film_C")?, film("film_T")?]))
+    let rotor_store = crate::fmu_params::store_for("rotor", &s.instance_parameters("rotor"))?;
+    let rotor = fmu_rotor::shell::params_from(&rotor_store);
+    let mut films = s.film_params()?;
+    for f in &mut films {
+        f.contact_in_force = true;
+    }
+    Ok((rotor, films))
 }
 
 /// Everything at one speed.

@@ -34,6 +34,7 @@ pub use study::{
 };
 pub use table::{collect, merge, write_table, RunRecord};
 
+use crate::summary::{RunStatus, RunSummary};
 use std::collections::BTreeMap;
 use std::io::{BufRead, BufReader, IsTerminal, Write as _};
 use std::path::{Path, PathBuf};
@@ -110,8 +111,7 @@ fn same_run(dir: &Path, args: &BTreeMap<String, String>) -> bool {
 
 /// True if `dir` holds a completed run with exactly these flags and defaults.
 fn is_done(dir: &Path, args: &BTreeMap<String, String>) -> bool {
-    let done = read_json(&dir.join("summary.json"))
-        .is_some_and(|s| s["status"].as_str() == Some("completed"));
+    let done = RunSummary::read(dir).is_some_and(|s| s.status == RunStatus::Completed);
     done && same_run(dir, args)
 }
 
@@ -119,8 +119,7 @@ fn is_done(dir: &Path, args: &BTreeMap<String, String>) -> bool {
 /// with exactly these flags and the checkpoint it wrote when it stopped: `airring resume`
 /// continues it instead of starting it again from t = 0.
 fn is_resumable(dir: &Path, args: &BTreeMap<String, String>) -> bool {
-    let interrupted = read_json(&dir.join("summary.json"))
-        .is_some_and(|s| s["status"].as_str() == Some("interrupted"));
+    let interrupted = RunSummary::read(dir).is_some_and(|s| s.status == RunStatus::Interrupted);
     interrupted && same_run(dir, args) && dir.join("checkpoint/master.json").exists()
 }
 
@@ -222,13 +221,10 @@ fn ensure_summary(dir: &Path, code: Option<i32>, stale: Option<&str>) {
     if fresh {
         return;
     }
-    let s = serde_json::json!({
-        "status": "failed",
-        "error": format!("the run-up ended with exit code {code:?} and wrote no summary; see runup.log"),
-        "classification": null, "onset_time_s": null, "max_eps_C": null, "max_eps_T": null,
-        "wall_time_s": null,
-    });
-    let _ = std::fs::write(p, serde_json::to_string_pretty(&s).expect("json"));
+    let _ = RunSummary::failure(format!(
+        "the run-up ended with exit code {code:?} and wrote no summary; see runup.log"
+    ))
+    .write(dir);
 }
 
 fn stem_for(shard: Option<(usize, usize)>) -> (String, String) {
@@ -310,9 +306,9 @@ pub fn sweep(study: &Study, study_text: &str, opts: &SweepOptions) -> Result<Swe
                     }
                     let dir = opts.out.join("runs").join(&r.spec.name);
                     ensure_summary(&dir, status.code(), r.stale_summary.as_deref());
-                    let s = read_json(&dir.join("summary.json")).unwrap_or_default();
-                    let st = s["status"].as_str().unwrap_or("failed").to_string();
-                    if st != "completed" {
+                    let s = RunSummary::read(&dir).unwrap_or_default();
+                    let st = s.status.as_str();
+                    if s.status != RunStatus::Completed {
                         report.failed.push(r.spec.name.clone());
                     }
                     report.ran += 1;
@@ -322,11 +318,9 @@ pub fn sweep(study: &Study, study_text: &str, opts: &SweepOptions) -> Result<Swe
                         let line = format!(
                             "[{finished}/{n_todo}] {}: {st}, {}, onset {} Hz, {:.0} s",
                             r.spec.name,
-                            s["classification"].as_str().unwrap_or("-"),
-                            s["onset_speed_hz"]
-                                .as_f64()
-                                .map_or("-".into(), |v| format!("{v:.0}")),
-                            s["wall_time_s"].as_f64().unwrap_or(f64::NAN)
+                            s.classification.as_deref().unwrap_or("-"),
+                            s.onset_speed_hz.map_or("-".into(), |v| format!("{v:.0}")),
+                            s.wall_time_s.unwrap_or(f64::NAN)
                         );
                         if tty {
                             eprint!("\r\x1b[2K");

@@ -3,6 +3,7 @@
 
 use super::study::{is_fmu_key, keys_in, short_and_unit, KEYS};
 use super::{plot_grid_maps, plot_maps, read_json, Study};
+use crate::summary::RunSummary;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};
 
@@ -49,7 +50,7 @@ pub fn collect(dirs: &[PathBuf]) -> Vec<RunRecord> {
             let Some(meta) = read_json(&dir.join("sweep_run.json")) else {
                 continue;
             };
-            let s = read_json(&dir.join("summary.json")).unwrap_or_default();
+            let s = RunSummary::read(&dir);
             let args: BTreeMap<String, String> =
                 serde_json::from_value(meta["args"].clone()).unwrap_or_default();
             let rec = RunRecord {
@@ -59,14 +60,17 @@ pub fn collect(dirs: &[PathBuf]) -> Vec<RunRecord> {
                     .unwrap_or_else(|| e.file_name().to_string_lossy().into_owned()),
                 index: meta["index"].as_u64().unwrap_or(u64::MAX) as usize,
                 args,
-                status: s["status"].as_str().unwrap_or("missing").to_string(),
-                classification: s["classification"].as_str().map(String::from),
-                onset_time_s: s["onset_time_s"].as_f64(),
-                onset_speed_hz: s["onset_speed_hz"].as_f64(),
-                max_eps_c: s["max_eps_C"].as_f64(),
-                max_eps_t: s["max_eps_T"].as_f64(),
-                wall_time_s: s["wall_time_s"].as_f64(),
-                settings: s["settings"].clone(),
+                status: s
+                    .as_ref()
+                    .map_or("missing", |s| s.status.as_str())
+                    .to_string(),
+                classification: s.as_ref().and_then(|s| s.classification.clone()),
+                onset_time_s: s.as_ref().and_then(|s| s.onset_time_s),
+                onset_speed_hz: s.as_ref().and_then(|s| s.onset_speed_hz),
+                max_eps_c: s.as_ref().and_then(|s| s.max_eps_c),
+                max_eps_t: s.as_ref().and_then(|s| s.max_eps_t),
+                wall_time_s: s.as_ref().and_then(|s| s.wall_time_s),
+                settings: s.map(|s| s.settings).unwrap_or_default(),
             };
             match by_name.get(&rec.name) {
                 Some(old) if old.status == "completed" || rec.status != "completed" => {}

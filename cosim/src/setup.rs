@@ -1,10 +1,11 @@
 //! From a system file to instantiated, initialized FMUs wired together.
 
-use super::gauss_seidel::{CoSim, Link, Scheme, StepControl, Subsystem};
+use crate::algorithm::{AlgorithmConfig, CoSim, Scheme};
+use crate::step_control::StepControl;
+use crate::subsystem::{Link, Subsystem};
 use crate::system::{split_port, split_quantity, System, SystemError};
-use fmi2::importer::{Fmu, LogHandler, LogRecord, ModelDescription};
-use fmi2::{Causality, Status, VarType};
-use std::sync::Arc;
+use fmi2::importer::{Fmu, LogHandler, ModelDescription};
+use fmi2::{Causality, VarType};
 
 /// A ready co-simulation and the settings it was built with.
 pub struct Built {
@@ -12,24 +13,21 @@ pub struct Built {
     pub macro_step_s: f64,
     pub stop_time_s: f64,
     pub output_interval_s: f64,
-    /// Recorded variables: (subsystem index, value reference, "instance.variable", unit).
-    pub recorded: Vec<(usize, u32, String, String)>,
+    /// The variables the system file asks to record, in column order.
+    pub recorded: Vec<Recorded>,
 }
 
-/// Prints FMU messages of status warning or worse (and debug messages when asked) with the
-/// instance name.
-pub fn stderr_logger() -> LogHandler {
-    Arc::new(|r: &LogRecord| {
-        if r.status >= Status::Warning || std::env::var_os("AIRRING_LOG_DEBUG").is_some() {
-            eprintln!(
-                "[{}] {} {}: {}",
-                r.instance,
-                r.status.name(),
-                r.category,
-                r.message
-            );
-        }
-    })
+/// A recorded variable: one column of the time series.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Recorded {
+    /// Index of its subsystem.
+    pub subsystem: usize,
+    /// Its value reference in that FMU.
+    pub vr: u32,
+    /// "instance.variable".
+    pub name: String,
+    /// Its unit as the FMU declares it ("" without one).
+    pub unit: String,
 }
 
 /// A parameter value of a system file as the FMU receives it (Reals in the variable's SI unit).
@@ -294,12 +292,12 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
         if sv.var_type != VarType::Real {
             return Err(sys.error_at(v, "output.variables", format!("'{inst}.{var}' is not Real")));
         }
-        recorded.push((
-            i,
-            sv.vr,
-            v.get_ref().clone(),
-            sv.unit.clone().unwrap_or_default(),
-        ));
+        recorded.push(Recorded {
+            subsystem: i,
+            vr: sv.vr,
+            name: v.get_ref().clone(),
+            unit: sv.unit.clone().unwrap_or_default(),
+        });
     }
 
     let control = match &alg.step_control {
@@ -318,23 +316,20 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
             Some(control)
         }
     };
-    let mut cosim = CoSim::initialize(
-        subs,
-        order,
+    let config = AlgorithmConfig {
         scheme,
-        *alg.extrapolation_order.get_ref() as usize,
-        *alg.interpolation_order.get_ref() as usize,
-        alg.rollback,
-        alg.parallel,
-        fmus,
-    )
-    .map_err(|e| {
+        extrapolation_order: *alg.extrapolation_order.get_ref() as usize,
+        interpolation_order: *alg.interpolation_order.get_ref() as usize,
+        rollback: alg.rollback,
+        parallel: alg.parallel,
+        control,
+    };
+    let cosim = CoSim::initialize(subs, order, config, fmus).map_err(|e| {
         SystemError(format!(
             "{}: initialization failed: {e}",
             sys.path.display()
         ))
     })?;
-    cosim.control = control;
     Ok(Built {
         cosim,
         macro_step_s,

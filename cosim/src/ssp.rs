@@ -1,4 +1,4 @@
-//! `airring export-ssp`: a system file as an SSP 1.0 archive (System Structure and Parameterization,
+//! A system file as an SSP 1.0 archive (`airring export-ssp`) (System Structure and Parameterization,
 //! Modelica Association) for other tools: `SystemStructure.ssd` with one component per FMU instance,
 //! its parameter values (inline ParameterBindings, in the FMU's SI units after the same unit
 //! conversion `airring run` applies), the connections, and the FMUs under `resources/`.
@@ -14,7 +14,7 @@
 //! connection for every input connector and, finding none, fails or silently reuses the source of
 //! the input before it.
 
-use crate::cosim::setup::{parameter_value, ParamValue};
+use crate::setup::{parameter_value, ParamValue};
 use crate::system::{split_port, System, SystemError};
 use fmi2::importer::{Fmu, ModelDescription};
 use fmi2::Causality;
@@ -22,15 +22,6 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
-
-#[derive(clap::Args, Clone, Debug)]
-pub struct ExportSspArgs {
-    /// The system file (as for `airring run`).
-    pub system: PathBuf,
-    /// The SSP archive to write.
-    #[arg(long)]
-    pub out: PathBuf,
-}
 
 /// One FMU instance as it goes into the SSD.
 struct Component {
@@ -352,26 +343,5 @@ fn write_archive(out: &Path, ssd: &str, files: &[(PathBuf, String)]) -> Result<(
         zip.write_all(&bytes).map_err(|e| err(&e))?;
     }
     zip.finish().map_err(|e| err(&e))?;
-    Ok(())
-}
-
-/// The command.
-pub fn run_cli(a: &ExportSspArgs) -> Result<(), String> {
-    let r = export(&a.system, &a.out)?;
-    if let Ok(sys) = System::load(&a.system) {
-        if sys.file.algorithm.step_control.is_some() {
-            eprintln!(
-                "note: the system's step_control has no SSP equivalent; other tools run the fixed macro step"
-            );
-        }
-    }
-    eprintln!(
-        "{}: {} components, {} connections, {} parameter values, {}",
-        a.out.display(),
-        r.components,
-        r.connections,
-        r.parameters,
-        r.resources.join(", ")
-    );
     Ok(())
 }

@@ -1,17 +1,20 @@
 //! Checkpoints: the FMU states (fmi2SerializeFMUstate) and the master's own state, written
 //! atomically (temporary file, then rename) so a crash during a write leaves the previous one intact.
 
+use crate::algorithm::AlgorithmState;
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 use std::path::Path;
 
-#[derive(Serialize, Deserialize)]
+/// The master's own state in `checkpoint/master.json` (the FMU states are files beside it).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct MasterState {
     pub format: u32,
     /// Time and macro-step index, as f64 bits (exact).
     pub t_bits: u64,
     pub step_index: u64,
     pub next_output_index: u64,
+    /// Bytes of timeseries.csv at the checkpoint (a resume cuts the file there).
     pub csv_bytes: u64,
     /// Per subsystem: coupling history points (time bits, value bits).
     pub histories: Vec<Vec<(u64, Vec<u64>)>>,
@@ -23,6 +26,37 @@ pub struct MasterState {
 }
 
 pub const FORMAT: u32 = 1;
+
+impl MasterState {
+    /// The master's state at a macro point; `csv_bytes` is left 0 for the time-series writer to
+    /// fill in (`Observer::checkpoint`).
+    pub fn new(
+        state: &AlgorithmState,
+        step_index: u64,
+        next_output_index: u64,
+        wall_before_s: f64,
+    ) -> Self {
+        MasterState {
+            format: FORMAT,
+            t_bits: state.t_s.to_bits(),
+            step_index,
+            next_output_index,
+            csv_bytes: 0,
+            histories: state.histories.iter().map(encode_history).collect(),
+            wall_before_s,
+            refine_level: state.refine_level,
+        }
+    }
+
+    /// The algorithm's state this checkpoint holds.
+    pub fn algorithm_state(&self) -> AlgorithmState {
+        AlgorithmState {
+            t_s: f64::from_bits(self.t_bits),
+            histories: self.histories.iter().map(|h| decode_history(h)).collect(),
+            refine_level: self.refine_level,
+        }
+    }
+}
 
 pub fn encode_history(h: &VecDeque<(f64, Vec<f64>)>) -> Vec<(u64, Vec<u64>)> {
     h.iter()

@@ -19,9 +19,14 @@
 //! force (stiffness ~1e10 N/m against a ring of 50 g) cannot be coupled explicitly at 20 us, but
 //! is at ~1 us; steps without contact keep the nominal macro step.
 
-use super::parallel::StepPool;
-use super::polynomial::{taylor_derivatives, taylor_value};
-use fmi2::importer::{CallError, Fmu, FmuState, ModelDescription, Slave};
+use crate::error::StepError;
+use crate::parallel::StepPool;
+use crate::polynomial::{taylor_derivatives, taylor_value};
+use crate::step_control::{
+    ControlStats, StepControl, MAX_HALVINGS, RELAX_BELOW, SAVE_BURST_STEPS, SAVE_EVERY,
+};
+use crate::subsystem::Subsystem;
+use fmi2::importer::{CallError, Fmu};
 use fmi2::Status;
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -32,228 +37,87 @@ pub enum Scheme {
     Jacobi,
 }
 
-/// An input fed by another subsystem's output.
-#[derive(Clone, Debug)]
-pub struct Link {
-    pub to_vr: u32,
-    pub from: usize,
-    /// Index into the source's `coupling_vrs`.
-    pub from_slot: usize,
-}
-
-/// One FMU instance in the co-simulation.
-pub struct Subsystem {
-    pub name: String,
-    pub slave: Slave,
-    pub can_interpolate: bool,
-    pub inputs: Vec<Link>,
-    /// Outputs that other subsystems read, in slot order.
-    pub coupling_vrs: Vec<u32>,
-    /// Coupling outputs at the last macro points, oldest first (at most 3 kept).
-    pub history: VecDeque<(f64, Vec<f64>)>,
-    state: Option<FmuState>,
-    /// Wall time spent in this FMU's fmi2DoStep.
-    pub step_wall: Duration,
-    /// Integer outputs (name, value reference): solver counters, reported at the end of a run.
-    pub counters: Vec<(String, u32)>,
-    // Scratch for setting inputs without allocating each step.
-    vrs: Vec<u32>,
-    values: Vec<f64>,
-    orders: Vec<i32>,
-    der_vrs: Vec<u32>,
-    der_values: Vec<f64>,
-}
-
-impl Subsystem {
-    pub fn new(name: String, slave: Slave, md: &ModelDescription) -> Self {
-        Subsystem {
-            name,
-            slave,
-            can_interpolate: md.can_interpolate_inputs,
-            inputs: vec![],
-            coupling_vrs: vec![],
-            history: VecDeque::with_capacity(4),
-            state: None,
-            step_wall: Duration::ZERO,
-            counters: md
-                .variables
-                .iter()
-                .filter(|v| {
-                    v.var_type == fmi2::variables::VarType::Integer
-                        && v.causality == fmi2::variables::Causality::Output
-                })
-                .map(|v| (v.name.clone(), v.vr))
-                .collect(),
-            vrs: vec![],
-            values: vec![],
-            orders: vec![],
-            der_vrs: vec![],
-            der_values: vec![],
-        }
-    }
-
-    /// Slot of an output in `coupling_vrs` (added if new).
-    pub fn coupling_slot(&mut self, vr: u32) -> usize {
-        match self.coupling_vrs.iter().position(|v| *v == vr) {
-            Some(i) => i,
-            None => {
-                self.coupling_vrs.push(vr);
-                self.coupling_vrs.len() - 1
-            }
-        }
-    }
-
-    fn read_coupling(&self) -> Result<Vec<f64>, CallError> {
-        let mut v = vec![0.0; self.coupling_vrs.len()];
-        self.slave.get_real(&self.coupling_vrs, &mut v)?;
-        Ok(v)
-    }
-
-    /// Reads the coupling outputs at `t` as the newest macro point, reusing the oldest point's
-    /// vector once three are kept (no allocation per macro step).
-    fn read_coupling_into_history(&mut self, t: f64) -> Result<(), CallError> {
-        let mut v = if self.history.len() == 3 {
-            self.history.pop_front().map(|p| p.1).unwrap_or_default()
-        } else {
-            vec![0.0; self.coupling_vrs.len()]
-        };
-        v.resize(self.coupling_vrs.len(), 0.0);
-        self.slave.get_real(&self.coupling_vrs, &mut v)?;
-        // A NaN or infinite output would travel silently into the other FMUs' inputs.
-        let finite = v.iter().all(|x| x.is_finite());
-        self.history.push_back((t, v));
-        if !finite {
-            return Err(CallError {
-                function: "fmi2GetReal (a coupling output is NaN or infinite)",
-                status: Status::Error,
-            });
-        }
-        Ok(())
-    }
-
-    fn push_history(&mut self, t: f64, v: Vec<f64>) {
-        if self.history.len() == 3 {
-            self.history.pop_front();
-        }
-        self.history.push_back((t, v));
-    }
-
-    pub(crate) fn do_step(&mut self, t: f64, h: f64) -> Result<(), CallError> {
-        let start = Instant::now();
-        let r = self.slave.do_step(t, h);
-        self.step_wall += start.elapsed();
-        r
-    }
-}
-
-/// Why a macro step failed.
-#[derive(Debug)]
-pub struct StepError {
-    pub subsystem: String,
-    pub error: CallError,
-    pub t_s: f64,
-}
-
-impl std::fmt::Display for StepError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "{}: {} at t = {} s (see its log above)",
-            self.subsystem, self.error, self.t_s
-        )
-    }
-}
-
-impl std::error::Error for StepError {}
-
-pub struct CoSim {
-    pub subs: Vec<Subsystem>,
-    /// Groups of subsystem indices in stepping order; members of a group run in parallel.
-    pub groups: Vec<Vec<usize>>,
+/// How the macro step couples the subsystems: the one configuration of [`CoSim::initialize`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AlgorithmConfig {
     pub scheme: Scheme,
+    /// Order of the polynomial through the last macro points for inputs not yet available at
+    /// T_N+1 (0, 1, 2).
     pub extrapolation_order: usize,
+    /// Order of the polynomial for inputs whose source already stepped to T_N+1 (0, 1, 2).
     pub interpolation_order: usize,
+    /// Save FMU states and roll back on fmi2Discard (required by `control`).
     pub rollback: bool,
+    /// Step the members of a group (subsystems that do not feed each other) in parallel threads.
     pub parallel: bool,
-    pub t: f64,
-    pub macro_steps: u64,
-    pub retries: u64,
-    pub timing: Timing,
     /// Macro-step control by the coupling error; None: fixed macro step (Discard still halves).
     pub control: Option<StepControl>,
+}
+
+/// Something the algorithm did that a watcher may want to report (the library prints nothing).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Event {
+    /// A subsystem discarded the step [t_from_s, t_to_s]: the FMUs were rolled back and the
+    /// interval is retried in halves.
+    RolledBack {
+        subsystem: String,
+        reason: String,
+        t_from_s: f64,
+        t_to_s: f64,
+    },
+}
+
+/// A co-simulation of FMU instances advancing by macro steps. Its state is private: read it
+/// through the accessors, save and restore it with [`CoSim::checkpoint`] and
+/// [`CoSim::restore_checkpoint`].
+pub struct CoSim {
+    subs: Vec<Subsystem>,
+    /// Groups of subsystem indices in stepping order; members of a group run in parallel.
+    groups: Vec<Vec<usize>>,
+    config: AlgorithmConfig,
+    t: f64,
+    macro_steps: u64,
+    retries: u64,
+    timing: Timing,
     /// Current refinement: the macro step is covered by 2^level sub-steps.
-    pub level: u32,
-    pub control_stats: ControlStats,
+    level: u32,
+    control_stats: ControlStats,
     /// Scratch: extrapolated inputs' predictions at T_N+1 as (source, slot, value).
     predicted: Vec<(usize, usize, f64)>,
+    /// Worker threads of the parallel groups. Dropped (joined) before the subsystems: see Drop.
     pool: Option<StepPool>,
     /// Scratch: which subsystems have stepped in the current macro step.
     stepped: Vec<bool>,
     /// Macro steps between saved FMU states when rollback is on.
-    pub save_every: usize,
+    save_every: usize,
     /// Macro steps left in which states are saved at every step: set after a rejection or a Discard, because
     /// where the control acted once (a whirl grazing the ring) it acts again within ~100 steps,
     /// and a replay of up to `save_every` steps per rejection costs more than saving each step.
     save_burst: u64,
     saved: Option<Saved>,
+    events: Vec<Event>,
     /// The loaded FMUs (their libraries must outlive the instances).
     _fmus: Vec<Fmu>,
 }
 
-/// Deepest refinement: 1/2^MAX_HALVINGS of the macro step (0.31 us at 20 us).
-pub const MAX_HALVINGS: u32 = 6;
-
-/// Relax the refinement by one level when the largest error ratio of a macro step is below this
-/// (halving the step divides an order-1 extrapolation error by 4: the coarser level then still
-/// keeps the error below 1/2 of the tolerance).
-const RELAX_BELOW: f64 = 0.125;
-
-/// Macro steps with a state save at every step after a rejection or a Discard (see `save_burst`).
-const SAVE_BURST_STEPS: u64 = 1000;
-
-/// Macro steps between state saves otherwise. A save copies the factorized Jacobians that changed
-/// since the last one (~3 MB for two films after a few hundred steps, ~0.4 ms); a Discard replays
-/// at most this many steps (~0.5 s of wall time), and trouble then switches to a save per step.
-const SAVE_EVERY: usize = 1000;
-
-/// Tolerance of the coupling error |extrapolated input - actual output| at T_N+1, in the units of
-/// the extrapolated inputs (forces in N for the run-up).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct StepControl {
-    pub rtol: f64,
-    pub atol: f64,
-}
-
-impl StepControl {
-    /// The one check of a tolerance pair, for system files and command-line flags alike.
-    pub fn new(rtol: f64, atol: f64) -> Result<Self, &'static str> {
-        let ok = |x: f64| x.is_finite() && x >= 0.0;
-        if ok(rtol) && ok(atol) && rtol + atol > 0.0 {
-            Ok(StepControl { rtol, atol })
-        } else {
-            Err("rtol and atol must be finite, >= 0 and not both 0")
-        }
+impl Drop for CoSim {
+    /// Joins the worker threads before the FMU instances and libraries are freed (fields drop in
+    /// declaration order, and `subs` comes first): a worker may still be inside an instance.
+    fn drop(&mut self) {
+        self.pool.take();
     }
 }
 
-/// What the macro-step control did over a run.
-#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize)]
-pub struct ControlStats {
-    /// Attempts rejected for their coupling error.
-    pub rejected: u64,
-    /// Macro steps covered by more than one sub-step.
-    pub refined_macro_steps: u64,
-    /// Deepest refinement level used (sub-step = macro step / 2^level).
-    pub deepest_level: u32,
-    /// Largest error ratio of an accepted attempt.
-    pub max_error_ratio: f64,
-    /// Accepted sub-steps of the refined macro steps.
-    pub sub_steps: u64,
-    /// Length of the rejected attempts, in macro steps: the work the control threw away.
-    pub rejected_work_macro_steps: f64,
-    /// Macro steps by the deepest level they used (index 0: one sub-step, the nominal step).
-    pub macro_steps_by_level: [u64; MAX_HALVINGS as usize + 1],
+/// The algorithm's own state at a macro point, beyond the FMU states: what a checkpoint keeps.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AlgorithmState {
+    pub t_s: f64,
+    /// Per subsystem: coupling outputs at the last macro points, oldest first.
+    pub histories: Vec<VecDeque<(f64, Vec<f64>)>>,
+    /// Refinement level of the macro-step control.
+    pub refine_level: u32,
 }
+
 /// Where the master's own time goes (wall time), for the run summary.
 #[derive(Clone, Debug, Default)]
 pub struct Timing {
@@ -285,18 +149,13 @@ struct Saved {
 impl CoSim {
     /// Settles the inputs in initialization mode (sources in order, twice), leaves it, and records
     /// the coupling outputs at t = 0 as the first macro point.
-    #[allow(clippy::too_many_arguments)]
     pub fn initialize(
         subs: Vec<Subsystem>,
         order: Vec<usize>,
-        scheme: Scheme,
-        extrapolation_order: usize,
-        interpolation_order: usize,
-        rollback: bool,
-        parallel: bool,
+        config: AlgorithmConfig,
         fmus: Vec<Fmu>,
     ) -> Result<CoSim, StepError> {
-        let groups = match scheme {
+        let groups = match config.scheme {
             Scheme::Jacobi => vec![order.clone()],
             Scheme::GaussSeidel => {
                 let mut groups: Vec<Vec<usize>> = vec![];
@@ -313,20 +172,15 @@ impl CoSim {
             }
         };
         let largest = groups.iter().map(Vec::len).max().unwrap_or(1);
-        let pool = (parallel && largest > 1).then(|| StepPool::new(largest));
+        let pool = (config.parallel && largest > 1).then(|| StepPool::new(largest));
         let mut c = CoSim {
             subs,
             groups,
-            scheme,
-            extrapolation_order,
-            interpolation_order,
-            rollback,
-            parallel,
+            config,
             t: 0.0,
             macro_steps: 0,
             retries: 0,
             timing: Timing::default(),
-            control: None,
             level: 0,
             control_stats: ControlStats::default(),
             predicted: vec![],
@@ -335,6 +189,7 @@ impl CoSim {
             save_every: SAVE_EVERY,
             save_burst: 0,
             saved: None,
+            events: vec![],
             _fmus: fmus,
         };
         let fail = |s: &Subsystem, error| StepError {
@@ -374,7 +229,10 @@ impl CoSim {
 
     /// Sets subsystem `i`'s inputs for the step [t, t+h] from the other subsystems' histories.
     fn set_inputs(&mut self, i: usize, t: f64, h: f64, stepped: &[bool]) -> Result<(), CallError> {
-        let (extrap, interp) = (self.extrapolation_order, self.interpolation_order);
+        let (extrap, interp) = (
+            self.config.extrapolation_order,
+            self.config.interpolation_order,
+        );
         let mut scratch = std::mem::take(&mut self.subs[i].vrs);
         let mut values = std::mem::take(&mut self.subs[i].values);
         let mut orders = std::mem::take(&mut self.subs[i].orders);
@@ -403,7 +261,7 @@ impl CoSim {
             let u0 = hist[anchor_idx].1[l.from_slot];
             debug_assert_eq!(hist[anchor_idx].0, t);
             let d = taylor_derivatives(&pts[..used], t);
-            if self.control.is_some() && !stepped[l.from] {
+            if self.config.control.is_some() && !stepped[l.from] {
                 self.predicted
                     .push((l.from, l.from_slot, taylor_value(u0, d, h)));
             }
@@ -567,7 +425,7 @@ impl CoSim {
     /// Largest |predicted - actual| / (atol + rtol |actual|) over the inputs extrapolated in the
     /// attempt just made (0 without control). NaN counts as infinitely large.
     fn coupling_error_ratio(&self) -> f64 {
-        let Some(ctl) = self.control else {
+        let Some(ctl) = self.config.control else {
             return 0.0;
         };
         self.predicted
@@ -590,14 +448,14 @@ impl CoSim {
     /// (the FMUs are deterministic, so the replay is exact), and retries the failed interval in two
     /// halves, recursively. Under control, a refined level covers the step with 2^level sub-steps.
     pub fn step(&mut self, h: f64) -> Result<(), StepError> {
-        if self.control.is_some() && self.level > 0 {
+        if self.config.control.is_some() && self.level > 0 {
             let mut acc = Accepted::default();
             self.cover(h, 0, self.level, &mut acc)?;
             self.finish_refined(acc);
             self.macro_steps += 1;
             return Ok(());
         }
-        if self.rollback
+        if self.config.rollback
             && self
                 .saved
                 .as_ref()
@@ -624,13 +482,15 @@ impl CoSim {
                         ..
                     },
                 ..
-            }) if self.rollback => {
+            }) if self.config.rollback => {
                 let t_fail = self.t - if attempt.is_ok() { h } else { 0.0 };
                 match attempt {
-                    Err(e) => eprintln!(
-                        "{e}: rolling back and retrying [{t_fail} s, {} s] in halves",
-                        t_fail + h
-                    ),
+                    Err(e) => self.events.push(Event::RolledBack {
+                        subsystem: e.subsystem,
+                        reason: e.error.to_string(),
+                        t_from_s: t_fail,
+                        t_to_s: t_fail + h,
+                    }),
                     Ok(_) => {
                         self.control_stats.rejected += 1;
                         self.control_stats.rejected_work_macro_steps += 1.0;
@@ -645,7 +505,7 @@ impl CoSim {
                 self.retries += 1;
                 let mut acc = Accepted::default();
                 self.cover(h, 0, 1, &mut acc)?;
-                if self.control.is_some() {
+                if self.config.control.is_some() {
                     self.finish_refined(acc);
                 }
                 // The next macro step saves afresh: the replay list of this point would be inconsistent.
@@ -749,9 +609,11 @@ impl CoSim {
         self.subs.iter().position(|s| s.name == name)
     }
 
-    /// Serialized FMU states of all subsystems at the current time (for checkpoints).
-    pub fn serialize_states(&self) -> Result<Vec<Vec<u8>>, StepError> {
-        self.subs
+    /// The algorithm's state and every subsystem's serialized FMU state at the current macro
+    /// point: what a checkpoint must keep to continue the run bit for bit.
+    pub fn checkpoint(&self) -> Result<(AlgorithmState, Vec<Vec<u8>>), StepError> {
+        let states = self
+            .subs
             .iter()
             .map(|s| {
                 let err = |error| StepError {
@@ -762,17 +624,23 @@ impl CoSim {
                 let st = s.slave.get_state().map_err(err)?;
                 s.slave.serialize_state(&st).map_err(err)
             })
-            .collect()
+            .collect::<Result<Vec<_>, _>>()?;
+        let state = AlgorithmState {
+            t_s: self.t,
+            histories: self.subs.iter().map(|s| s.history.clone()).collect(),
+            refine_level: self.level,
+        };
+        Ok((state, states))
     }
 
-    /// Restores serialized FMU states (from `serialize_states`) and the master's histories.
-    pub fn restore_serialized(
+    /// Continues from a [`CoSim::checkpoint`]: restores the FMU states and the algorithm's state.
+    pub fn restore_checkpoint(
         &mut self,
-        t: f64,
-        states: &[Vec<u8>],
-        history: Vec<VecDeque<(f64, Vec<f64>)>>,
+        state: AlgorithmState,
+        fmu_states: &[Vec<u8>],
     ) -> Result<(), StepError> {
-        for ((s, bytes), h) in self.subs.iter_mut().zip(states).zip(history) {
+        let t = state.t_s;
+        for ((s, bytes), h) in self.subs.iter_mut().zip(fmu_states).zip(state.histories) {
             let err = |error| StepError {
                 subsystem: s.name.clone(),
                 error,
@@ -783,6 +651,56 @@ impl CoSim {
             s.history = h;
         }
         self.t = t;
+        self.level = state.refine_level;
         Ok(())
+    }
+
+    /// Current simulated time [s].
+    pub fn time_s(&self) -> f64 {
+        self.t
+    }
+
+    /// The configuration the co-simulation was built with.
+    pub fn config(&self) -> &AlgorithmConfig {
+        &self.config
+    }
+
+    /// Instance names, in subsystem order.
+    pub fn names(&self) -> impl Iterator<Item = &str> {
+        self.subs.iter().map(|s| s.name.as_str())
+    }
+
+    /// Macro steps taken, and how many of them were retried after a Discard.
+    pub fn macro_steps(&self) -> (u64, u64) {
+        (self.macro_steps, self.retries)
+    }
+
+    /// Where the master's own time went.
+    pub fn timing(&self) -> &Timing {
+        &self.timing
+    }
+
+    /// What the macro-step control did (None: fixed macro step).
+    pub fn control_stats(&self) -> Option<ControlStats> {
+        self.config.control.map(|_| self.control_stats)
+    }
+
+    /// Wall time spent in each subsystem's fmi2DoStep, by instance name.
+    pub fn wall_in_fmus(&self) -> Vec<(String, Duration)> {
+        self.subs
+            .iter()
+            .map(|s| (s.name.clone(), s.step_wall))
+            .collect()
+    }
+
+    /// The events since the last call, oldest first.
+    pub fn drain_events(&mut self) -> std::vec::Drain<'_, Event> {
+        self.events.drain(..)
+    }
+
+    /// Macro steps between saved FMU states when rollback is on (default 1000; smaller values
+    /// make a roll-back replay fewer steps at the cost of more saves).
+    pub fn set_save_every(&mut self, macro_steps: usize) {
+        self.save_every = macro_steps.max(1);
     }
 }

@@ -1,4 +1,5 @@
-//! CSV time series, flushed at least every second of wall time so a killed run keeps its data.
+//! CSV time series, flushed at least every second of wall time so a killed run keeps its data;
+//! [`CsvObserver`] writes one from a run.
 
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Seek, Write};
@@ -82,6 +83,74 @@ impl TimeSeriesWriter {
     pub fn flush(&mut self) -> std::io::Result<()> {
         self.last_flush = Instant::now();
         self.out.flush()
+    }
+}
+
+/// The time-series file as an observer: `timeseries.csv` in the run folder, created at the start
+/// (or cut back to the checkpoint's byte count on resume), a row per sample, flushed at every
+/// checkpoint and at the end.
+pub struct CsvObserver {
+    path: std::path::PathBuf,
+    writer: Option<TimeSeriesWriter>,
+}
+
+impl CsvObserver {
+    pub fn new(path: impl Into<std::path::PathBuf>) -> Self {
+        CsvObserver {
+            path: path.into(),
+            writer: None,
+        }
+    }
+
+    fn writer(&mut self) -> Result<&mut TimeSeriesWriter, String> {
+        self.writer
+            .as_mut()
+            .ok_or_else(|| format!("{}: written before the run started", self.path.display()))
+    }
+}
+
+impl crate::Observer for CsvObserver {
+    fn started(&mut self, run: &crate::observer::RunStart<'_>) -> Result<(), String> {
+        let w = match run.resumed_from {
+            Some(m) => TimeSeriesWriter::resume(&self.path, m.csv_bytes),
+            None => {
+                let columns: Vec<(String, String)> = run
+                    .columns
+                    .iter()
+                    .map(|r| (r.name.clone(), r.unit.clone()))
+                    .collect();
+                TimeSeriesWriter::create(&self.path, &columns)
+            }
+        };
+        self.writer = Some(w.map_err(|e| format!("{}: {e}", self.path.display()))?);
+        Ok(())
+    }
+
+    fn sample(&mut self, t_s: f64, values: &[f64]) -> Result<(), String> {
+        let path = self.path.display().to_string();
+        self.writer()?
+            .row(t_s, values)
+            .map_err(|e| format!("{path}: {e}"))
+    }
+
+    fn checkpoint(&mut self, state: &mut crate::checkpoint::MasterState) -> Result<(), String> {
+        let path = self.path.display().to_string();
+        let w = self.writer()?;
+        w.flush().map_err(|e| format!("{path}: {e}"))?;
+        state.csv_bytes = w.bytes;
+        Ok(())
+    }
+
+    fn finished(
+        &mut self,
+        _cosim: &crate::CoSim,
+        _report: &crate::RunReport,
+    ) -> Result<(), String> {
+        let path = self.path.display().to_string();
+        match self.writer.as_mut() {
+            Some(w) => w.flush().map_err(|e| format!("{path}: {e}")),
+            None => Ok(()),
+        }
     }
 }
 

@@ -1,0 +1,55 @@
+//! Typed errors of the co-simulation library.
+
+use fmi2::importer::CallError;
+
+/// Why a macro step failed.
+#[derive(Debug)]
+pub struct StepError {
+    pub subsystem: String,
+    pub error: CallError,
+    pub t_s: f64,
+}
+
+impl std::fmt::Display for StepError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}: {} at t = {} s (see its log above)",
+            self.subsystem, self.error, self.t_s
+        )
+    }
+}
+
+impl std::error::Error for StepError {}
+
+/// Why a run could not start (a run that starts reports its end in `RunReport`).
+#[derive(Debug)]
+pub enum RunError {
+    /// A file or folder of the run could not be read or written.
+    Io {
+        path: std::path::PathBuf,
+        source: std::io::Error,
+    },
+    /// The system file is invalid or its FMUs could not be set up.
+    System(crate::system::SystemError),
+    /// The checkpoint to resume from is missing or unreadable.
+    Checkpoint(String),
+}
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RunError::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            RunError::System(e) => write!(f, "{e}"),
+            RunError::Checkpoint(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for RunError {}
+
+impl From<crate::system::SystemError> for RunError {
+    fn from(e: crate::system::SystemError) -> Self {
+        RunError::System(e)
+    }
+}

@@ -1,0 +1,296 @@
+//! Running a system to its stop time: the macro-step loop, output sampling, Ctrl-C (a stop
+//! flag), checkpoints and resume. What is done with the samples (files, progress, analysis) is up
+//! to the [`Observer`]s; the loop prints nothing.
+
+use crate::checkpoint::{self, MasterState};
+use crate::error::RunError;
+use crate::observer::{Observer, RunStart};
+use crate::setup::{build, Built};
+use crate::step_control::ControlStats;
+use crate::system::System;
+use fmi2::importer::LogHandler;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::Arc;
+use std::time::Instant;
+
+/// How a run is executed (the system file says what is simulated).
+#[derive(Clone, Debug)]
+pub struct RunConfig {
+    /// The run folder: the system file used is copied there, checkpoints go to `checkpoint/`.
+    pub out_dir: PathBuf,
+    /// Simulated time between checkpoints.
+    pub checkpoint_every_s: Option<f64>,
+    /// Set by Ctrl-C (or a test) to stop cleanly, with a checkpoint, at the next macro point.
+    pub stop: Arc<AtomicBool>,
+    /// Stop (as if interrupted) once this simulated time is reached (tests of resume).
+    pub halt_at_s: Option<f64>,
+}
+
+impl RunConfig {
+    /// A run into `out_dir` without checkpoints, halts or a stop flag of its own.
+    pub fn new(out_dir: impl Into<PathBuf>) -> Self {
+        RunConfig {
+            out_dir: out_dir.into(),
+            checkpoint_every_s: None,
+            stop: Arc::new(AtomicBool::new(false)),
+            halt_at_s: None,
+        }
+    }
+}
+
+/// How a run ended and where its time went.
+#[derive(Debug, Default, serde::Serialize)]
+pub struct RunReport {
+    pub completed: bool,
+    pub interrupted: bool,
+    pub error: Option<String>,
+    pub t_end_s: f64,
+    pub macro_steps: u64,
+    pub retries: u64,
+    pub wall_time_s: f64,
+    /// Wall time in each subsystem's fmi2DoStep, and everything else (the master's own work).
+    pub wall_per_subsystem_s: Vec<(String, f64)>,
+    pub master_overhead_s: f64,
+    /// Parts of the master's own time: state saving, coupling (polynomials, get/set), thread hand-over.
+    pub master_parts_s: Vec<(String, f64)>,
+    /// What the macro-step control did (None: fixed macro step).
+    pub control: Option<ControlStats>,
+    /// Integer outputs of each FMU at the end (solver counters such as the air film's
+    /// `n_pressure_floored`; counted since the start or the resumed checkpoint).
+    pub counters: Vec<(String, Vec<(String, i32)>)>,
+}
+
+/// Output sample index -> time; computed from the index so that times do not drift.
+fn output_time(k: u64, interval: f64) -> f64 {
+    k as f64 * interval
+}
+
+/// Runs `system_path` into `cfg.out_dir` (copying the system file there), or resumes from the
+/// checkpoint in `cfg.out_dir` when `resume` is set. Observers see every sample and event; the
+/// report comes back also when the run failed or was interrupted (`Err` only when it could not
+/// start).
+pub fn run(
+    system_path: &Path,
+    cfg: &RunConfig,
+    resume: bool,
+    log: LogHandler,
+    observers: &mut [&mut dyn Observer],
+) -> Result<RunReport, RunError> {
+    let io = |path: &Path| {
+        let path = path.to_path_buf();
+        move |source| RunError::Io { path, source }
+    };
+    std::fs::create_dir_all(&cfg.out_dir).map_err(io(&cfg.out_dir))?;
+    let used = cfg.out_dir.join("system.toml");
+    if !resume {
+        let text = std::fs::read_to_string(system_path).map_err(io(system_path))?;
+        if system_path.canonicalize().ok() != used.canonicalize().ok() {
+            std::fs::write(&used, &text).map_err(io(&used))?;
+        }
+    }
+    let sys = System::load(if resume { &used } else { system_path })?;
+    let built = build(&sys, log)?;
+    let names: Vec<String> = built.cosim.names().map(str::to_string).collect();
+    let resumed_from = if resume {
+        Some(checkpoint::read(&cfg.out_dir, &names).map_err(RunError::Checkpoint)?)
+    } else {
+        None
+    };
+    Ok(Execution::new(built, cfg).run(resumed_from, observers))
+}
+
+/// A built co-simulation on its way to the stop time.
+struct Execution<'a> {
+    built: Built,
+    cfg: &'a RunConfig,
+    names: Vec<String>,
+    /// One fmi2GetReal per subsystem and sample: (subsystem, its recorded vrs, their columns).
+    by_sub: Vec<(usize, Vec<u32>, Vec<usize>)>,
+    values: Vec<f64>,
+    scratch: Vec<f64>,
+}
+
+impl<'a> Execution<'a> {
+    fn new(built: Built, cfg: &'a RunConfig) -> Self {
+        let mut by_sub: Vec<(usize, Vec<u32>, Vec<usize>)> = vec![];
+        for (col, r) in built.recorded.iter().enumerate() {
+            match by_sub.iter_mut().find(|g| g.0 == r.subsystem) {
+                Some(g) => {
+                    g.1.push(r.vr);
+                    g.2.push(col);
+                }
+                None => by_sub.push((r.subsystem, vec![r.vr], vec![col])),
+            }
+        }
+        let n = built.recorded.len();
+        Execution {
+            names: built.cosim.names().map(str::to_string).collect(),
+            built,
+            cfg,
+            by_sub,
+            values: vec![0.0; n],
+            scratch: vec![0.0; n],
+        }
+    }
+
+    /// Reads the recorded variables into `values`.
+    fn record(&mut self) -> Result<(), String> {
+        for (i, vrs, cols) in &self.by_sub {
+            let out = &mut self.scratch[..vrs.len()];
+            self.built
+                .cosim
+                .get_many(*i, vrs, out)
+                .map_err(|e| format!("reading outputs of {}: {e}", self.names[*i]))?;
+            for (c, v) in cols.iter().zip(out.iter()) {
+                self.values[*c] = *v;
+            }
+        }
+        Ok(())
+    }
+
+    fn run(
+        mut self,
+        resumed_from: Option<(MasterState, Vec<Vec<u8>>)>,
+        observers: &mut [&mut dyn Observer],
+    ) -> RunReport {
+        let start = Instant::now();
+        let mut report = RunReport::default();
+        let mut step_index = 0;
+        let mut wall_before = 0.0;
+        let result = self.run_loop(
+            resumed_from,
+            observers,
+            &mut report,
+            &mut step_index,
+            &mut wall_before,
+            start,
+        );
+        let cosim = &self.built.cosim;
+        report.error = result.err();
+        report.t_end_s = cosim.time_s();
+        report.macro_steps = step_index;
+        report.retries = cosim.macro_steps().1;
+        report.control = cosim.control_stats();
+        report.counters = cosim.counters();
+        report.wall_time_s = wall_before + start.elapsed().as_secs_f64();
+        report.wall_per_subsystem_s = cosim
+            .wall_in_fmus()
+            .into_iter()
+            .map(|(n, d)| (n, d.as_secs_f64()))
+            .collect();
+        // With parallel groups the FMU times overlap: the FMUs' share is the critical path (per
+        // macro step, the slowest member of each group); everything else is the master's own work.
+        let tm = cosim.timing();
+        report.master_overhead_s =
+            (start.elapsed().as_secs_f64() - tm.critical_path.as_secs_f64()).max(0.0);
+        report.master_parts_s = vec![
+            ("save_states".into(), tm.save_states.as_secs_f64()),
+            ("coupling".into(), tm.coupling.as_secs_f64()),
+            (
+                "parallel_handover".into(),
+                tm.parallel_overhead.as_secs_f64(),
+            ),
+        ];
+        for o in observers.iter_mut() {
+            if let Err(e) = o.finished(cosim, &report) {
+                report.error.get_or_insert(e);
+            }
+        }
+        report
+    }
+
+    fn run_loop(
+        &mut self,
+        resumed_from: Option<(MasterState, Vec<Vec<u8>>)>,
+        observers: &mut [&mut dyn Observer],
+        report: &mut RunReport,
+        step_index: &mut u64,
+        wall_before: &mut f64,
+        start: Instant,
+    ) -> Result<(), String> {
+        let h = self.built.macro_step_s;
+        let stop = self.built.stop_time_s;
+        let n_steps = (stop / h).round() as u64;
+        let interval = self.built.output_interval_s;
+        let mut next_output = 0;
+        if let Some((m, states)) = &resumed_from {
+            self.built
+                .cosim
+                .restore_checkpoint(m.algorithm_state(), states)
+                .map_err(|e| e.to_string())?;
+            *step_index = m.step_index;
+            next_output = m.next_output_index;
+            *wall_before = m.wall_before_s;
+        }
+        let run_start = RunStart {
+            columns: &self.built.recorded,
+            resumed_from: resumed_from.as_ref().map(|(m, _)| m),
+            stop_time_s: stop,
+        };
+        for o in observers.iter_mut() {
+            o.started(&run_start)?;
+        }
+        let cfg = self.cfg;
+        let mut next_checkpoint = cfg
+            .checkpoint_every_s
+            .map(|dt| ((self.built.cosim.time_s() / dt).floor() + 1.0) * dt);
+        loop {
+            let t = self.built.cosim.time_s();
+            // Output samples due at the current macro point.
+            while output_time(next_output, interval) <= t + 1e-9 * h {
+                self.record()?;
+                for o in observers.iter_mut() {
+                    o.sample(t, &self.values)?;
+                }
+                next_output += 1;
+            }
+            for e in self.built.cosim.drain_events().collect::<Vec<_>>() {
+                for o in observers.iter_mut() {
+                    o.event(&e);
+                }
+            }
+            for o in observers.iter_mut() {
+                o.macro_point(&self.built.cosim, stop);
+            }
+            if *step_index >= n_steps {
+                report.completed = true;
+                return Ok(());
+            }
+            let halt = cfg.halt_at_s.is_some_and(|th| t >= th - 1e-9 * h);
+            let checkpoint_due = next_checkpoint.is_some_and(|tc| t >= tc - 1e-9 * h);
+            let stopping = cfg.stop.load(Ordering::Relaxed) || halt;
+            if checkpoint_due || stopping {
+                let (state, states) = self.built.cosim.checkpoint().map_err(|e| e.to_string())?;
+                let mut m = MasterState::new(
+                    &state,
+                    *step_index,
+                    next_output,
+                    *wall_before + start.elapsed().as_secs_f64(),
+                );
+                for o in observers.iter_mut() {
+                    o.checkpoint(&mut m)?;
+                }
+                checkpoint::write(&cfg.out_dir, &self.names, &states, &m)
+                    .map_err(|e| format!("checkpoint: {e}"))?;
+                if let (Some(tc), Some(dt)) = (next_checkpoint.as_mut(), cfg.checkpoint_every_s) {
+                    *tc += dt;
+                }
+            }
+            if stopping {
+                report.interrupted = true;
+                return Ok(());
+            }
+            // Step to the grid point (k+1) h exactly, so the time does not drift over 10^5 steps.
+            let target = (*step_index + 1) as f64 * h;
+            let r = self.built.cosim.step(target - t);
+            for e in self.built.cosim.drain_events().collect::<Vec<_>>() {
+                for o in observers.iter_mut() {
+                    o.event(&e);
+                }
+            }
+            r.map_err(|e| e.to_string())?;
+            *step_index += 1;
+        }
+    }
+}

@@ -1,0 +1,39 @@
+//! A generic FMI 2.0 co-simulation master. It knows FMI and system files, nothing of the models
+//! it couples (no physics crate, no command line, no plots).
+//!
+//! - [`system`]: TOML system files (FMUs, parameters, connections, algorithm, outputs); errors
+//!   name file, line and field.
+//! - [`setup`]: load, parameterize (unit conversion through the FMUs' display units), connect and
+//!   initialize: a [`Built`] co-simulation.
+//! - [`algorithm`]: the macro step ([`CoSim`]): Gauss-Seidel or Jacobi with input polynomials
+//!   ([`polynomial`]), parallel groups ([`parallel`]), roll-back and replay, macro-step control
+//!   ([`step_control`]); [`subsystem`]: one FMU instance in it.
+//! - [`execution`]: the run loop to the stop time, checkpoints ([`checkpoint`]) and resume;
+//!   everything that watches a run is an [`Observer`] ([`observer`]), such as the CSV writer
+//!   ([`timeseries::CsvObserver`]).
+//! - [`ssp`]: a system file as an SSP 1.0 archive.
+//!
+//! The library prints nothing: FMU messages go to the caller's log handler, algorithm events
+//! to the observers.
+
+pub mod algorithm;
+pub mod checkpoint;
+pub mod error;
+pub mod execution;
+pub mod observer;
+pub mod parallel;
+pub mod polynomial;
+pub mod setup;
+pub mod ssp;
+pub mod step_control;
+pub mod subsystem;
+pub mod system;
+pub mod timeseries;
+
+pub use algorithm::{AlgorithmConfig, CoSim, Event, Scheme};
+pub use error::{RunError, StepError};
+pub use execution::{run, RunConfig, RunReport};
+pub use observer::{Observer, RunStart};
+pub use setup::{build, Built, Recorded};
+pub use step_control::{ControlStats, StepControl};
+pub use system::{System, SystemError};

@@ -1,0 +1,48 @@
+//! Everything that watches a run attaches through [`Observer`] (after libcosim's `observer` and
+//! rapier's `EventHandler`): the time-series file, progress displays, in-memory series, an
+//! application's own analysis. Every method has a no-op default, so an observer implements only
+//! what it watches; the run loop knows none of them.
+
+use crate::algorithm::{CoSim, Event};
+use crate::checkpoint::MasterState;
+use crate::execution::RunReport;
+use crate::setup::Recorded;
+
+/// The run as an observer first sees it.
+pub struct RunStart<'a> {
+    /// The recorded variables, in column order (time comes first in every row and is not listed).
+    pub columns: &'a [Recorded],
+    /// The checkpoint the run resumes from (None: a fresh run from t = 0).
+    pub resumed_from: Option<&'a MasterState>,
+    pub stop_time_s: f64,
+}
+
+/// A watcher of a run. Errors are strings naming what failed; they end the run as failed.
+pub trait Observer {
+    /// Before the first macro step (also of a resumed run).
+    fn started(&mut self, _run: &RunStart<'_>) -> Result<(), String> {
+        Ok(())
+    }
+
+    /// An output sample: the recorded variables at time `t_s`, in column order.
+    fn sample(&mut self, _t_s: f64, _values: &[f64]) -> Result<(), String> {
+        Ok(())
+    }
+
+    /// At every macro point, after its samples: the co-simulation as it stands.
+    fn macro_point(&mut self, _cosim: &CoSim, _stop_time_s: f64) {}
+
+    /// Something the algorithm did (a roll-back, ...).
+    fn event(&mut self, _event: &Event) {}
+
+    /// A checkpoint is being written: make everything observed so far durable, and record in
+    /// `state` what a resume needs (the time-series writer records its byte count).
+    fn checkpoint(&mut self, _state: &mut MasterState) -> Result<(), String> {
+        Ok(())
+    }
+
+    /// The run has ended (completed, interrupted or failed); `report` says which.
+    fn finished(&mut self, _cosim: &CoSim, _report: &RunReport) -> Result<(), String> {
+        Ok(())
+    }
+}

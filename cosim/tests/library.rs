@@ -1,0 +1,220 @@
+//! The library on its own, as another application would use it: `cosim::run` with observers of
+//! its own on the packed test FMU (`oscillator.fmu`; build it first with `cargo xtask fmus`).
+//! The coupling-order, roll-back and checkpoint tests of the run loop live in
+//! master/tests/cosim.rs (they run it through the application's observers).
+
+use cosim::algorithm::Event;
+use cosim::observer::{Observer, RunStart};
+use cosim::timeseries::{self, CsvObserver};
+use cosim::{CoSim, RunConfig, RunReport};
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+fn fmu_dir() -> PathBuf {
+    let d = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .join("target/fmu");
+    assert!(
+        d.join("oscillator.fmu").exists(),
+        "run `cargo xtask fmus` first"
+    );
+    d
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("cosim-test-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// Two oscillators coupled through their inputs; `a` discards its steps from t = 4 ms on unless
+/// they are at most a quarter of the 10 ms macro step (the FMU's fault mode 3).
+fn system(dir: &Path) -> PathBuf {
+    let text = format!(
+        r#"
+[[fmu]]
+name = "a"
+path = "{fmu}/oscillator.fmu"
+parameters = {{ x0 = "1 m", fault_mode = 3, fault_time = 0.004 }}
+
+[[fmu]]
+name = "b"
+path = "{fmu}/oscillator.fmu"
+
+[[connection]]
+from = "a.x"
+to = "b.F"
+
+[[connection]]
+from = "b.x"
+to = "a.F"
+
+[algorithm]
+kind = "gauss-seidel"
+macro_step = 0.01
+stop_time = 0.1
+extrapolation_order = 1
+interpolation_order = 1
+
+[output]
+interval = 0.01
+variables = ["a.x", "b.x"]
+"#,
+        fmu = fmu_dir().display()
+    );
+    let path = dir.join("coupled.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Records what the run loop tells an observer, in order.
+#[derive(Default)]
+struct Recorder {
+    calls: Vec<String>,
+    samples: Vec<(f64, Vec<f64>)>,
+    macro_points: usize,
+    events: Vec<Event>,
+}
+
+impl Observer for Recorder {
+    fn started(&mut self, run: &RunStart<'_>) -> Result<(), String> {
+        let names: Vec<&str> = run.columns.iter().map(|c| c.name.as_str()).collect();
+        self.calls
+            .push(format!("started {names:?} to {} s", run.stop_time_s));
+        Ok(())
+    }
+    fn sample(&mut self, t_s: f64, values: &[f64]) -> Result<(), String> {
+        self.samples.push((t_s, values.to_vec()));
+        Ok(())
+    }
+    fn macro_point(&mut self, _cosim: &CoSim, _stop_time_s: f64) {
+        self.macro_points += 1;
+    }
+    fn event(&mut self, event: &Event) {
+        self.events.push(event.clone());
+    }
+    fn finished(&mut self, cosim: &CoSim, report: &RunReport) -> Result<(), String> {
+        self.calls.push(format!(
+            "finished at {} s, completed {}",
+            cosim.time_s(),
+            report.completed
+        ));
+        Ok(())
+    }
+}
+
+/// An observer whose sample fails: the run ends as failed, with its message, and the others
+/// still hear `finished`.
+struct FailsAt(f64);
+
+impl Observer for FailsAt {
+    fn sample(&mut self, t_s: f64, _values: &[f64]) -> Result<(), String> {
+        if t_s >= self.0 {
+            Err(format!("disk full at {t_s} s"))
+        } else {
+            Ok(())
+        }
+    }
+}
+
+#[test]
+fn observers_see_every_sample_and_the_roll_backs_and_the_csv_matches_them() {
+    let dir = tmp("observers");
+    let sys = system(&dir);
+    let mut csv = CsvObserver::new(dir.join("series.csv"));
+    let mut rec = Recorder::default();
+    let log = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    let report = cosim::run(
+        &sys,
+        &RunConfig::new(&dir),
+        false,
+        log,
+        &mut [&mut csv, &mut rec],
+    )
+    .unwrap();
+    assert!(report.completed && report.error.is_none(), "{report:?}");
+    assert_eq!(rec.calls.len(), 2, "{:?}", rec.calls);
+    assert_eq!(rec.calls[0], "started [\"a.x\", \"b.x\"] to 0.1 s");
+    assert!(rec.calls[1].starts_with("finished at 0.1") && rec.calls[1].ends_with("true"));
+    // 11 samples (t = 0, 0.01, ..., 0.1), one per macro point.
+    assert_eq!(rec.samples.len(), 11);
+    assert_eq!(rec.macro_points, 11);
+    // Each macro step from 4 ms on was discarded once and rolled back: one event each, in order,
+    // naming the subsystem and the interval.
+    assert_eq!(report.retries, 10);
+    assert_eq!(rec.events.len(), 10, "{:?}", rec.events);
+    for (k, e) in rec.events.iter().enumerate() {
+        let Event::RolledBack {
+            subsystem,
+            t_from_s,
+            t_to_s,
+            ..
+        } = e;
+        assert_eq!(subsystem, "a");
+        assert!((t_from_s - 0.01 * k as f64).abs() < 1e-12, "{e:?}");
+        assert!((t_to_s - t_from_s - 0.01).abs() < 1e-12, "{e:?}");
+    }
+    // The file holds exactly what the observers saw, bit for bit.
+    let (header, rows) = timeseries::read(&dir.join("series.csv")).unwrap();
+    assert_eq!(header, ["time [s]", "a.x [m]", "b.x [m]"]);
+    assert_eq!(rows.len(), rec.samples.len());
+    for (row, (t, v)) in rows.iter().zip(&rec.samples) {
+        assert_eq!(row[0].to_bits(), t.to_bits());
+        assert_eq!(row[1].to_bits(), v[0].to_bits());
+        assert_eq!(row[2].to_bits(), v[1].to_bits());
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_failing_observer_fails_the_run_with_its_message() {
+    let dir = tmp("failing");
+    let sys = system(&dir);
+    let mut rec = Recorder::default();
+    let log = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    let report = cosim::run(
+        &sys,
+        &RunConfig::new(&dir),
+        false,
+        log,
+        &mut [&mut FailsAt(0.05), &mut rec],
+    )
+    .unwrap();
+    assert!(!report.completed, "{report:?}");
+    assert!(
+        report
+            .error
+            .as_deref()
+            .unwrap_or("")
+            .contains("disk full at 0.05"),
+        "{report:?}"
+    );
+    assert!((report.t_end_s - 0.05).abs() < 1e-12);
+    assert!(rec.calls.last().unwrap().starts_with("finished at 0.05"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_run_that_cannot_start_is_a_typed_error() {
+    let dir = tmp("nostart");
+    let log = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    let e = cosim::run(
+        &dir.join("missing.toml"),
+        &RunConfig::new(&dir),
+        false,
+        log.clone(),
+        &mut [],
+    )
+    .unwrap_err();
+    assert!(matches!(e, cosim::RunError::Io { .. }), "{e}");
+    // A run folder without a checkpoint (a completed run) cannot be resumed.
+    let sys = system(&dir);
+    let done = cosim::run(&sys, &RunConfig::new(&dir), false, log.clone(), &mut []).unwrap();
+    assert!(done.completed);
+    let e = cosim::run(&sys, &RunConfig::new(&dir), true, log, &mut []).unwrap_err();
+    assert!(matches!(e, cosim::RunError::Checkpoint(_)), "{e}");
+    assert!(e.to_string().contains("no checkpoint"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

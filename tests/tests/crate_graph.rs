@@ -1,0 +1,115 @@
+//! The crate graph keeps the layers apart (ARCHITECTURE.md): the generic co-simulation library
+//! knows no physics and no application, the rotor does not link the air film, and the shared
+//! bearing description depends on neither physics crate. Read from the Cargo.toml files, with
+//! path dependencies followed transitively (normal and build dependencies; dev-dependencies may
+//! cross layers for tests).
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+
+/// Workspace crate name -> (folder, [(dependency name, path if a path dependency)]).
+type Graph = BTreeMap<String, (PathBuf, Vec<(String, Option<PathBuf>)>)>;
+
+fn manifest(dir: &Path) -> toml::Table {
+    let text = std::fs::read_to_string(dir.join("Cargo.toml")).unwrap();
+    text.parse().unwrap()
+}
+
+fn graph() -> Graph {
+    let root = integration_tests::workspace_root();
+    let ws = manifest(&root);
+    let members = ws["workspace"]["members"].as_array().unwrap();
+    let mut g = Graph::new();
+    for m in members {
+        let dir = root.join(m.as_str().unwrap());
+        let t = manifest(&dir);
+        let name = t["package"]["name"].as_str().unwrap().to_string();
+        let mut deps = vec![];
+        for section in ["dependencies", "build-dependencies"] {
+            if let Some(d) = t.get(section).and_then(|d| d.as_table()) {
+                for (dep, spec) in d {
+                    let path = spec
+                        .get("path")
+                        .and_then(|p| p.as_str())
+                        .map(|p| dir.join(p).canonicalize().unwrap());
+                    deps.push((dep.clone(), path));
+                }
+            }
+        }
+        g.insert(name, (dir.canonicalize().unwrap(), deps));
+    }
+    g
+}
+
+/// Every crate `name` links, directly or through workspace crates (by name).
+fn closure(g: &Graph, name: &str) -> BTreeSet<String> {
+    let by_dir: BTreeMap<&PathBuf, &String> = g.iter().map(|(n, (d, _))| (d, n)).collect();
+    let mut seen = BTreeSet::new();
+    let mut todo = vec![name.to_string()];
+    while let Some(n) = todo.pop() {
+        for (dep, path) in &g[&n].1 {
+            let dep_name = path
+                .as_ref()
+                .and_then(|p| by_dir.get(p))
+                .map(|s| s.to_string())
+                .unwrap_or_else(|| dep.clone());
+            if seen.insert(dep_name.clone()) && g.contains_key(&dep_name) {
+                todo.push(dep_name);
+            }
+        }
+    }
+    seen
+}
+
+#[test]
+fn the_cosim_library_links_no_physics_and_no_application_crates() {
+    let g = graph();
+    let links = closure(&g, "cosim");
+    assert!(links.contains("fmi2"), "{links:?}");
+    for forbidden in [
+        "fmu-airfilm",
+        "fmu-rotor",
+        "bearing",
+        "master",
+        "clap",
+        "parquet",
+        "tiny-skia",
+        "rustfft",
+    ] {
+        assert!(
+            !links.contains(forbidden),
+            "cosim links {forbidden}: {links:?}"
+        );
+    }
+}
+
+#[test]
+fn the_rotor_does_not_link_the_air_film_and_both_share_the_bearing_crate() {
+    let g = graph();
+    let rotor = closure(&g, "fmu-rotor");
+    let film = closure(&g, "fmu-airfilm");
+    assert!(!rotor.contains("fmu-airfilm"), "{rotor:?}");
+    assert!(!film.contains("fmu-rotor"), "{film:?}");
+    assert!(rotor.contains("bearing") && film.contains("bearing"));
+    let bearing = closure(&g, "bearing");
+    for forbidden in ["fmu-airfilm", "fmu-rotor", "fmi2", "cosim", "master"] {
+        assert!(!bearing.contains(forbidden), "bearing links {forbidden}");
+    }
+}
+
+#[test]
+fn the_application_sits_on_the_library_and_the_physics() {
+    let g = graph();
+    let app = closure(&g, "master");
+    for needed in ["cosim", "bearing", "fmu-airfilm", "fmu-rotor"] {
+        assert!(app.contains(needed), "master does not link {needed}");
+    }
+    // The check itself can fail: a graph with an edge cosim -> fmu-rotor is caught.
+    let mut bad = g.clone();
+    let rotor_dir = bad["fmu-rotor"].0.clone();
+    bad.get_mut("cosim")
+        .unwrap()
+        .1
+        .push(("fmu-rotor".into(), Some(rotor_dir)));
+    assert!(closure(&bad, "cosim").contains("bearing"));
+}
