@@ -106,3 +106,31 @@ fn small_eccentricity_compressible_ausman() {
         assert!((att - att_ana).abs().to_degrees() < 0.5);
     }
 }
+
+/// Without rotation a journal at rest in any position carries no load: the steady pressure is
+/// ambient everywhere (no wedge, no squeeze). The steady solver must return that at once, also
+/// for a displaced journal and in the stiffness it differentiates (libcosim reads the outputs of
+/// a `start_steady` film before any input is set, at omega = 0).
+#[test]
+fn no_rotation_no_load_at_any_position() {
+    let prm = BearingParams::paper();
+    for (ex, ey) in [(0.0, 0.0), (0.3, -0.5), (-0.7, 0.1)] {
+        let j = JournalState::at(ex * prm.bore.c_m, ey * prm.bore.c_m, 0.0);
+        let s = steady_state(&prm, j).unwrap_or_else(|e| panic!("({ex}, {ey}): {e}"));
+        let dev = s.p_rel.iter().fold(0.0f64, |m, p| m.max((p - 1.0).abs()));
+        assert!(dev < 1e-12, "({ex}, {ey}): max |P - 1| = {dev}");
+        let f = s.outputs.fx_n.hypot(s.outputs.fy_n);
+        assert!(f < 1e-9, "({ex}, {ey}): load {f} N");
+    }
+    let k = fmu_airfilm::static_stiffness(&prm, JournalState::at(0.0, -0.3 * prm.bore.c_m, 0.0))
+        .unwrap();
+    for row in k {
+        for kij in row {
+            assert!(kij.abs() < 1e-3, "{k:?} N/m");
+        }
+    }
+    // With rotation the same start is not steady: the solver iterates and the film carries load.
+    let j = JournalState::at(0.0, -0.3 * prm.bore.c_m, 2.0 * PI * 500.0);
+    let s = steady_state(&prm, j).unwrap();
+    assert!(s.iterations > 1 && s.outputs.fy_n > 1.0, "{:?}", s.outputs);
+}
