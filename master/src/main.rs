@@ -21,24 +21,9 @@ struct Cli {
 
 #[derive(clap::Args, Clone)]
 struct RunupArgs {
-    /// Paper Section 3 run: path1 (c = 1000 N/mm), path2a (500 N/mm), path2b (100 N/mm, 150 g rings).
-    #[arg(long, default_value = "path1")]
-    preset: String,
-    /// Ring mount stiffness c [N/mm] (both bearings).
-    #[arg(long)]
-    c: Option<f64>,
-    /// Ring mount damping d [N s/m] (both bearings).
-    #[arg(long)]
-    d: Option<f64>,
-    /// Ring mass m_R [g] (each ring).
-    #[arg(long)]
-    m_r: Option<f64>,
-    /// Nominal clearance C [um].
-    #[arg(long)]
-    clearance: Option<f64>,
-    /// Step height dH [um].
-    #[arg(long)]
-    dh: Option<f64>,
+    /// The rotor and its bearings (shared with `airring stability`).
+    #[command(flatten)]
+    bearing: master::design::DesignArgs,
     /// Final speed [Hz].
     #[arg(long)]
     f_max: Option<f64>,
@@ -57,9 +42,6 @@ struct RunupArgs {
     /// Interpolation order of the air films' inputs (0, 1, 2).
     #[arg(long)]
     interpolation_order: Option<u8>,
-    /// Air-film mesh per lobe, e.g. 20x6 (elements along the lobe x across the half width).
-    #[arg(long)]
-    mesh: Option<String>,
     /// Compressor-wheel imbalance "mass_g,radius_mm,phase_deg".
     #[arg(long)]
     imbalance_c: Option<String>,
@@ -98,11 +80,6 @@ struct RunupArgs {
     /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
     #[arg(long)]
     fmu_dir: Option<PathBuf>,
-    /// Any other FMU parameter, repeatable: PREFIX.NAME=VALUE with PREFIX rotor, film (both
-    /// films), film_C or film_T; VALUE a number (SI) or "number unit" (e.g. --set film.eta=1.9e-5,
-    /// --set "rotor.c_C=1500 N/mm"). Replaces a value the run-up would set itself.
-    #[arg(long = "set", value_name = "FMU.NAME=VALUE")]
-    set: Vec<String>,
 }
 
 #[derive(Subcommand)]
@@ -279,12 +256,7 @@ fn triple(s: &str, flag: &str) -> Result<(f64, f64, f64), String> {
 }
 
 fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
-    let mut s = RunupSettings::preset(&a.preset)?;
-    s.c_n_per_mm = a.c.unwrap_or(s.c_n_per_mm);
-    s.d_n_s_per_m = a.d.unwrap_or(s.d_n_s_per_m);
-    s.m_r_g = a.m_r.unwrap_or(s.m_r_g);
-    s.clearance_um = a.clearance.unwrap_or(s.clearance_um);
-    s.dh_um = a.dh.unwrap_or(s.dh_um);
+    let mut s = a.bearing.settings()?;
     s.f_max_hz = a.f_max.unwrap_or(s.f_max_hz);
     s.t_ramp_s = a.t_ramp.unwrap_or(s.t_ramp_s);
     s.stop_time_s = a.stop.unwrap_or(s.t_ramp_s);
@@ -296,7 +268,6 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     s.disturbance_seed = a.disturbance_seed.unwrap_or(s.disturbance_seed);
     s.jacobi = a.jacobi;
     s.serial_films = a.serial_films;
-    s.fmu_parameters = master::fmu_params::parse_set_flags(&a.set)?;
     if let Some(ft) = &a.film_tolerance {
         s.film_tolerance = Some(master::runup::parse_film_tolerance(ft)?);
     }
@@ -305,9 +276,6 @@ fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     }
     if let Some(c) = &a.contact {
         s.contact = master::runup::ContactSide::parse(c)?;
-    }
-    if let Some(m) = &a.mesh {
-        (s.n_elem_phi, s.n_elem_z) = master::runup::parse_mesh(m, "--mesh")?;
     }
     if let Some(i) = &a.imbalance_c {
         s.imbalance_c = triple(i, "imbalance-c")?;
@@ -531,8 +499,13 @@ fn main() -> ExitCode {
             std::fs::write(&sys_path, s.system_toml(&dir.to_string_lossy()))
                 .map_err(|e| e.to_string())?;
             eprintln!(
-                "run-up '{}': c = {} N/mm, d = {} N s/m, m_R = {} g, C = {} um, dH = {} um, 0 -> {} Hz in {} s; macro step {} us -> {}",
-                s.preset, s.c_n_per_mm, s.d_n_s_per_m, s.m_r_g, s.clearance_um, s.dh_um, s.f_max_hz, s.t_ramp_s, s.macro_step_us, out.display()
+                "run-up '{}': {}, 0 -> {} Hz in {} s; macro step {} us -> {}",
+                s.preset,
+                master::runup::describe_bearings(&s)?,
+                s.f_max_hz,
+                s.t_ramp_s,
+                s.macro_step_us,
+                out.display()
             );
             let opts = RunOptions {
                 out_dir: out.clone(),

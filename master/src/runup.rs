@@ -44,7 +44,12 @@ pub struct RunupSettings {
     /// steps) or in the air films (its force extrapolated with the film force over each macro
     /// step). See docs/convergence.md.
     pub contact: ContactSide,
-    /// Further FMU parameters (`--set`, study keys with a dot): (PREFIX.NAME, value text), e.g.
+    /// The design file the run-up started from (`--design`); its entries are the first
+    /// `fmu_parameters`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub design: Option<std::path::PathBuf>,
+    /// Further FMU parameters (a design file's, then `--set` and study keys with a dot):
+    /// (PREFIX.NAME, value text), e.g.
     /// ("film.eta", "1.9e-5 Pa.s"); applied after, and in place of, the parameters above
     /// (`crate::fmu_params`).
     pub fmu_parameters: Vec<(String, String)>,
@@ -103,6 +108,7 @@ impl RunupSettings {
             step_control: Some(DEFAULT_STEP_CONTROL),
             film_tolerance: Some(DEFAULT_FILM_TOLERANCE),
             contact: DEFAULT_CONTACT,
+            design: None,
             fmu_parameters: Vec::new(),
         })
     }
@@ -358,6 +364,29 @@ impl RunupSettings {
         .unwrap();
         s
     }
+}
+
+/// The bearings as the run-up's FMUs get them, in the units engineers read: "c = 1000 N/mm,
+/// d = 50 N s/m, m_R = 50 g, C = 20 um, dH = 40 um", with "C/T" pairs where the bearings differ.
+pub fn describe_bearings(s: &RunupSettings) -> Result<String, String> {
+    let (rotor, films) = crate::stability::params_of(s)?;
+    let pair = |c: f64, t: f64| {
+        // Rounded for reading (unit conversions leave 1e-12 residues).
+        let r = |x: f64| (x * 1e9).round() / 1e9;
+        if r(c) == r(t) {
+            format!("{}", r(c))
+        } else {
+            format!("{}/{}", r(c), r(t))
+        }
+    };
+    Ok(format!(
+        "c = {} N/mm, d = {} N s/m, m_R = {} g, C = {} um, dH = {} um",
+        pair(rotor.c_c_n_m / 1e3, rotor.c_t_n_m / 1e3),
+        pair(rotor.d_c_n_s_m, rotor.d_t_n_s_m),
+        pair(rotor.m_r_c_kg * 1e3, rotor.m_r_t_kg * 1e3),
+        pair(films[0].bore.c_m * 1e6, films[1].bore.c_m * 1e6),
+        pair(films[0].bore.dh_m * 1e6, films[1].bore.dh_m * 1e6),
+    ))
 }
 
 /// The rotor's contact-geometry parameters (`bearing_*`, in SI, exact) for a film's bore and

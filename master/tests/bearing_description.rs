@@ -163,3 +163,83 @@ fn the_rotors_contact_geometry_is_not_a_runup_flag() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_design_file_is_the_same_description_as_the_flags() {
+    let dir = tmp("design");
+    let design = dir.join("d.toml");
+    std::fs::write(
+        &design,
+        "[bearing]\nC = \"25 um\"\ndH = \"50 um\"\nmount_c = \"800 N/mm\"\nring_mass = \"60 g\"\n",
+    )
+    .unwrap();
+    let a = dir.join("design");
+    let b = dir.join("flags");
+    let series_a = runup(&a, &["--design", design.to_str().unwrap()]);
+    let series_b = runup(
+        &b,
+        &[
+            "--clearance",
+            "25",
+            "--dh",
+            "50",
+            "--c",
+            "800",
+            "--m-r",
+            "60",
+        ],
+    );
+    assert_eq!(series_a, series_b);
+    // A flag overrides the file: --clearance 30 over the design is the flags' run with C = 30.
+    let c = dir.join("override");
+    let d = dir.join("flags30");
+    let series_c = runup(
+        &c,
+        &["--design", design.to_str().unwrap(), "--clearance", "30"],
+    );
+    let series_d = runup(
+        &d,
+        &[
+            "--clearance",
+            "30",
+            "--dh",
+            "50",
+            "--c",
+            "800",
+            "--m-r",
+            "60",
+        ],
+    );
+    assert_eq!(series_c, series_d);
+    assert_ne!(series_a, series_c);
+    // The example design runs as it is (default contact side) ...
+    runup(&dir.join("example"), &["--design", "studies/design_example.toml"]);
+    // ... and in the linear analysis (one speed).
+    let (ok, stdout, err) = airring(&[
+        "stability",
+        "--design",
+        "studies/design_example.toml",
+        "--speeds",
+        "1000:1000:100",
+        "--out",
+        dir.join("stab").to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    assert!(stdout.contains("1000"), "{stdout}");
+    // A bad design stops before anything runs, naming the file and the key.
+    std::fs::write(&design, "[bearing]\nC = \"25 furlongs\"\n").unwrap();
+    let (ok, _, err) = airring(&[
+        "runup",
+        "--design",
+        design.to_str().unwrap(),
+        "--out",
+        dir.join("bad").to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(
+        err.contains("d.toml") && err.contains("[bearing] C"),
+        "{err}"
+    );
+    assert!(!dir.join("bad").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -7,51 +7,20 @@ use std::path::PathBuf;
 
 #[derive(clap::Args, Clone, Debug)]
 pub struct StabilityArgs {
-    /// Paper Section 3 parameter set: path1 (c = 1000 N/mm), path2a (500 N/mm), path2b (100 N/mm, 150 g rings).
-    #[arg(long, default_value = "path1")]
-    pub preset: String,
-    /// Ring mount stiffness c [N/mm] (both bearings).
-    #[arg(long)]
-    pub c: Option<f64>,
-    /// Ring mount damping d [N s/m] (both bearings).
-    #[arg(long)]
-    pub d: Option<f64>,
-    /// Ring mass m_R [g] (each ring).
-    #[arg(long)]
-    pub m_r: Option<f64>,
-    /// Nominal clearance C [um].
-    #[arg(long)]
-    pub clearance: Option<f64>,
-    /// Step height dH [um].
-    #[arg(long)]
-    pub dh: Option<f64>,
-    /// Air-film mesh per lobe, e.g. 20x6.
-    #[arg(long)]
-    pub mesh: Option<String>,
+    /// The rotor and its bearings, as for `airring runup`.
+    #[command(flatten)]
+    pub bearing: crate::design::DesignArgs,
     /// Speed grid from:to:step [Hz].
     #[arg(long, default_value = "100:2000:50")]
     pub speeds: String,
     /// Output folder for stability.json and the diagrams.
     #[arg(long)]
     pub out: Option<PathBuf>,
-    /// Any other FMU parameter, repeatable, as for `airring runup`: PREFIX.NAME=VALUE with PREFIX
-    /// rotor, film, film_C or film_T (e.g. --set film.eta=1.9e-5, --set "film_T.C=25 um").
-    #[arg(long = "set", value_name = "FMU.NAME=VALUE")]
-    pub set: Vec<String>,
 }
 
-/// The run-up settings these flags describe (preset, then overrides).
+/// The run-up settings these flags describe (preset, design file, then overrides).
 pub fn settings(a: &StabilityArgs) -> Result<RunupSettings, String> {
-    let mut s = RunupSettings::preset(&a.preset)?;
-    s.c_n_per_mm = a.c.unwrap_or(s.c_n_per_mm);
-    s.d_n_s_per_m = a.d.unwrap_or(s.d_n_s_per_m);
-    s.m_r_g = a.m_r.unwrap_or(s.m_r_g);
-    s.clearance_um = a.clearance.unwrap_or(s.clearance_um);
-    s.dh_um = a.dh.unwrap_or(s.dh_um);
-    if let Some(m) = &a.mesh {
-        (s.n_elem_phi, s.n_elem_z) = crate::runup::parse_mesh(m, "--mesh")?;
-    }
-    s.fmu_parameters = crate::fmu_params::parse_set_flags(&a.set)?;
+    let s = a.bearing.settings()?;
     s.validate()?;
     Ok(s)
 }

@@ -1,0 +1,341 @@
+//! A design file: one rotor in two air ring bearings, each quantity written once, in a file an
+//! engineer keeps under version control and runs with `airring runup --design FILE`,
+//! `airring stability --design FILE` (flags override it).
+//!
+//! ```toml
+//! [bearing]              # both bearings: bore, contact law, gas (air-film parameter names),
+//! C = "20 um"            # and the ring's mount and mass
+//! dH = "40 um"
+//! mount_c = "1000 N/mm"
+//! mount_d = "50 N.s/m"
+//! ring_mass = "50 g"
+//!
+//! [bearing.T]            # the turbine bearing only (overrides [bearing]); [bearing.C] likewise
+//! C = "25 um"
+//!
+//! [rotor]                # rotor.fmu parameters: mass, inertia, journal and wheel positions, imbalance
+//! m = "4.5 kg"
+//! ```
+//!
+//! Values are numbers in SI units or strings "number unit" with a display unit the FMU declares;
+//! names and ranges are checked against the FMUs' variable tables. The file becomes the same
+//! FMU parameter entries as `--set` (`film_C.C`, `rotor.c_T`, ...), so a design, a study key and a
+//! flag edit one description; the rotor's contact geometry is derived from the films (runup.rs).
+
+use crate::fmu_params::FmuParameter;
+use crate::runup::RunupSettings;
+use std::path::{Path, PathBuf};
+
+/// The flags that describe the rotor and its bearings, shared by `airring runup` and `airring
+/// stability` (a study's keys are the same flags): a preset, a design file over it, then the
+/// flags, then `--set` (each later one wins).
+#[derive(clap::Args, Clone, Debug)]
+pub struct DesignArgs {
+    /// Paper Section 3 parameter set: path1 (c = 1000 N/mm), path2a (500 N/mm), path2b (100 N/mm, 150 g rings).
+    #[arg(long, default_value = "path1")]
+    pub preset: String,
+    /// A design file (TOML: [bearing], [bearing.C], [bearing.T], [rotor]; see docs/design.md)
+    /// applied over the preset; the flags below override it.
+    #[arg(long)]
+    pub design: Option<PathBuf>,
+    /// Ring mount stiffness c [N/mm] (both bearings).
+    #[arg(long)]
+    pub c: Option<f64>,
+    /// Ring mount damping d [N s/m] (both bearings).
+    #[arg(long)]
+    pub d: Option<f64>,
+    /// Ring mass m_R [g] (each ring).
+    #[arg(long)]
+    pub m_r: Option<f64>,
+    /// Nominal clearance C [um] (both bearings).
+    #[arg(long)]
+    pub clearance: Option<f64>,
+    /// Step height dH [um] (both bearings).
+    #[arg(long)]
+    pub dh: Option<f64>,
+    /// Air-film mesh per lobe, e.g. 20x6 (elements along the lobe x across the half width).
+    #[arg(long)]
+    pub mesh: Option<String>,
+    /// Any other FMU parameter, repeatable: PREFIX.NAME=VALUE with PREFIX rotor, film (both
+    /// films), film_C or film_T; VALUE a number (SI) or "number unit" (e.g. --set film.eta=1.9e-5,
+    /// --set "rotor.c_C=1500 N/mm"). Replaces a value the run-up would set itself.
+    #[arg(long = "set", value_name = "FMU.NAME=VALUE")]
+    pub set: Vec<String>,
+}
+
+impl DesignArgs {
+    /// The settings these flags describe (checked with `RunupSettings::validate`).
+    pub fn settings(&self) -> Result<RunupSettings, String> {
+        let mut s = RunupSettings::preset(&self.preset)?;
+        let mut design = match &self.design {
+            Some(p) => Design::load(p)?,
+            None => Design::default(),
+        };
+        // A flag given explicitly overrides the design's entries of the same variables.
+        let overridden: [(bool, &[&str]); 5] = [
+            (self.c.is_some(), &["rotor.c_C", "rotor.c_T"]),
+            (self.d.is_some(), &["rotor.d_C", "rotor.d_T"]),
+            (self.m_r.is_some(), &["rotor.m_R_C", "rotor.m_R_T"]),
+            (self.clearance.is_some(), &["film.C"]),
+            (self.dh.is_some(), &["film.dH"]),
+        ];
+        for (given, keys) in overridden {
+            if given {
+                design = design.without(keys);
+            }
+        }
+        s.c_n_per_mm = self.c.unwrap_or(s.c_n_per_mm);
+        s.d_n_s_per_m = self.d.unwrap_or(s.d_n_s_per_m);
+        s.m_r_g = self.m_r.unwrap_or(s.m_r_g);
+        s.clearance_um = self.clearance.unwrap_or(s.clearance_um);
+        s.dh_um = self.dh.unwrap_or(s.dh_um);
+        if let Some(m) = &self.mesh {
+            (s.n_elem_phi, s.n_elem_z) = crate::runup::parse_mesh(m, "--mesh")?;
+        }
+        s.design = self.design.clone();
+        s.fmu_parameters = design.entries;
+        s.fmu_parameters
+            .extend(crate::fmu_params::parse_set_flags(&self.set)?);
+        Ok(s)
+    }
+}
+
+/// Air-film parameters that describe the bearing itself (not the mesh or the solver).
+const FILM_KEYS: &[&str] = &[
+    "r",
+    "b",
+    "C",
+    "dH",
+    "phi_t",
+    "alpha",
+    "n_lobes",
+    "plain_bore",
+    "h_con_rel",
+    "c_con",
+    "eta",
+    "p_a",
+];
+
+/// Bearing keys that are rotor.fmu parameters per bearing: (design key, rotor name without _C/_T).
+const MOUNT_KEYS: &[(&str, &str)] = &[("mount_c", "c"), ("mount_d", "d"), ("ring_mass", "m_R")];
+
+/// A design: its FMU parameter entries (PREFIX.NAME, value text), in the order they apply.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Design {
+    pub entries: Vec<(String, String)>,
+}
+
+impl Design {
+    pub fn load(path: &Path) -> Result<Design, String> {
+        let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        Design::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+    }
+
+    pub fn parse(text: &str) -> Result<Design, String> {
+        let table: toml::Table = text.parse().map_err(|e: toml::de::Error| e.to_string())?;
+        let mut d = Design::default();
+        for (section, value) in &table {
+            let t = value
+                .as_table()
+                .ok_or_else(|| format!("'{section}' must be a table ([{section}])"))?;
+            match section.as_str() {
+                "bearing" => {
+                    // Both bearings first, then the per-bearing tables, so those win.
+                    d.bearing(t, None)?;
+                    for (side, v) in t.iter().filter(|(_, v)| v.is_table()) {
+                        let side = match side.as_str() {
+                            "C" => "C",
+                            "T" => "T",
+                            other => {
+                                return Err(format!(
+                                    "[bearing.{other}]: a bearing is C (compressor) or T (turbine)"
+                                ))
+                            }
+                        };
+                        d.bearing(v.as_table().expect("a table"), Some(side))?;
+                    }
+                }
+                "rotor" => d.rotor(t)?,
+                other => {
+                    return Err(format!(
+                        "unknown section [{other}] (a design has [bearing], [bearing.C], [bearing.T] and [rotor])"
+                    ))
+                }
+            }
+        }
+        Ok(d)
+    }
+
+    /// The entries of one bearing table (`side` None: both bearings).
+    fn bearing(&mut self, t: &toml::Table, side: Option<&str>) -> Result<(), String> {
+        let at = |key: &str| match side {
+            Some(s) => format!("[bearing.{s}] {key}"),
+            None => format!("[bearing] {key}"),
+        };
+        for (key, v) in t.iter().filter(|(_, v)| !v.is_table()) {
+            let text = value_text(v).ok_or_else(|| {
+                format!(
+                    "{}: expected a number, a \"number unit\" string or a boolean",
+                    at(key)
+                )
+            })?;
+            if let Some((_, rotor_name)) = MOUNT_KEYS.iter().find(|(k, _)| k == key) {
+                for s in side.map_or(vec!["C", "T"], |s| vec![s]) {
+                    self.push(format!("rotor.{rotor_name}_{s}"), &text, &at(key))?;
+                }
+            } else if FILM_KEYS.contains(&key.as_str()) {
+                let prefix = side.map_or("film".to_string(), |s| format!("film_{s}"));
+                self.push(format!("{prefix}.{key}"), &text, &at(key))?;
+            } else {
+                return Err(format!(
+                    "{}: not a bearing quantity (bore, contact and gas: {}; mount and ring: {}; the mesh and \
+                     the solver are run flags: --mesh, --film-tolerance, --set)",
+                    at(key),
+                    FILM_KEYS.join(", "),
+                    MOUNT_KEYS.iter().map(|m| m.0).collect::<Vec<_>>().join(", ")
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn rotor(&mut self, t: &toml::Table) -> Result<(), String> {
+        for (key, v) in t {
+            let at = format!("[rotor] {key}");
+            let text = value_text(v).ok_or_else(|| {
+                format!("{at}: expected a number, a \"number unit\" string or a boolean")
+            })?;
+            let per_bearing = ["c_C", "c_T", "d_C", "d_T", "m_R_C", "m_R_T"];
+            if per_bearing.contains(&key.as_str())
+                || key.starts_with("bearing_")
+                || key == "contact"
+            {
+                return Err(format!(
+                    "{at}: belongs to a bearing: write it in [bearing] (mount_c, mount_d, ring_mass; \
+                     the contact geometry is the air films' bore)"
+                ));
+            }
+            if ["f_max", "t_ramp"].contains(&key.as_str()) {
+                return Err(format!("{at}: the speed profile is a run flag (--f-max, --t-ramp), not part of a design"));
+            }
+            self.push(format!("rotor.{key}"), &text, &at)?;
+        }
+        Ok(())
+    }
+
+    fn push(&mut self, key: String, text: &str, at: &str) -> Result<(), String> {
+        FmuParameter::parse(&key, text).map_err(|e| format!("{at}: {e}"))?;
+        self.entries.push((key, text.to_string()));
+        Ok(())
+    }
+
+    /// The entries without those that set any of the FMU variables `keys` (for a flag that
+    /// overrides the design, e.g. --clearance removes film.C, film_C.C and film_T.C).
+    pub fn without(&self, keys: &[&str]) -> Design {
+        Design {
+            entries: self
+                .entries
+                .iter()
+                .filter(|(k, _)| !keys.iter().any(|x| covers(x, k)))
+                .cloned()
+                .collect(),
+        }
+    }
+}
+
+/// Does the flag key `flag` ("film.C", "rotor.c_C") set the same variable as the entry `entry`?
+fn covers(flag: &str, entry: &str) -> bool {
+    let name = |k: &str| {
+        k.split_once('.')
+            .map(|(_, n)| n.to_string())
+            .unwrap_or_default()
+    };
+    let prefix = |k: &str| {
+        k.split_once('.')
+            .map(|(p, _)| p.to_string())
+            .unwrap_or_default()
+    };
+    name(flag) == name(entry)
+        && (prefix(flag) == prefix(entry)
+            || (prefix(flag) == "film" && prefix(entry).starts_with("film_")))
+}
+
+/// A TOML value as the text `FmuParameter::parse` reads.
+fn value_text(v: &toml::Value) -> Option<String> {
+    match v {
+        toml::Value::String(s) => Some(s.clone()),
+        toml::Value::Float(f) => Some(format!("{f:?}")),
+        toml::Value::Integer(i) => Some(i.to_string()),
+        toml::Value::Boolean(b) => Some(b.to_string()),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn each_bearing_quantity_becomes_its_fmu_parameters() {
+        let d = Design::parse(
+            r#"
+[bearing]
+C = "20 um"
+mount_c = "1000 N/mm"
+ring_mass = 0.05
+
+[bearing.T]
+C = "25 um"
+mount_d = 80.0
+
+[rotor]
+m = "4.5 kg"
+"#,
+        )
+        .unwrap();
+        let keys: Vec<&str> = d.entries.iter().map(|(k, _)| k.as_str()).collect();
+        assert_eq!(
+            keys,
+            [
+                "film.C",
+                "rotor.c_C",
+                "rotor.c_T",
+                "rotor.m_R_C",
+                "rotor.m_R_T",
+                "film_T.C",
+                "rotor.d_T",
+                "rotor.m"
+            ]
+        );
+        // A flag overriding the design drops every entry of the same variable.
+        let k: Vec<String> = d
+            .without(&["film.C", "rotor.c_C", "rotor.c_T"])
+            .entries
+            .into_iter()
+            .map(|e| e.0)
+            .collect();
+        assert_eq!(k, ["rotor.m_R_C", "rotor.m_R_T", "rotor.d_T", "rotor.m"]);
+    }
+
+    #[test]
+    fn what_is_not_a_design_quantity_is_refused_naming_where_it_goes() {
+        for (text, expect) in [
+            ("[bearing]\nn_elem_phi = 30", "--mesh"),
+            ("[bearing]\nC = \"20 furlongs\"", "[bearing] C"),
+            ("[bearing.X]\nC = 1e-5", "C (compressor) or T (turbine)"),
+            ("[rotor]\nc_C = \"1 N/mm\"", "mount_c"),
+            ("[rotor]\nbearing_C = 1e-5", "[bearing]"),
+            ("[rotor]\nf_max = 1000.0", "--f-max"),
+            ("[rotor]\nbogus = 1", "[rotor] bogus"),
+            ("[wheels]\nx = 1", "unknown section [wheels]"),
+            ("[bearing]\nC = [1, 2]", "expected a number"),
+            ("[bearing\nC = 1", "TOML"),
+        ] {
+            let e = Design::parse(text).unwrap_err();
+            assert!(
+                e.contains(expect) || (expect == "TOML" && !e.is_empty()),
+                "{text}: {e}"
+            );
+        }
+    }
+}
