@@ -30,27 +30,37 @@ pub const N_VISIBLE: f64 = 12.0;
 pub fn settings_for(
     args: &std::collections::BTreeMap<String, String>,
 ) -> Result<RunupSettings, String> {
-    let preset = args.get("preset").map_or("path1", String::as_str);
-    let mut s = RunupSettings::preset(preset)?;
-    let num = |k: &str, v: &str| -> Result<f64, String> {
-        v.trim()
-            .parse::<f64>()
-            .map_err(|_| format!("'{k}' = '{v}' is not a number"))
+    let num = |k: &str| -> Result<Option<f64>, String> {
+        args.get(k)
+            .map(|v| {
+                v.trim()
+                    .parse::<f64>()
+                    .map_err(|_| format!("'{k}' = '{v}' is not a number"))
+            })
+            .transpose()
     };
-    for (k, v) in args {
-        match k.as_str() {
-            "clearance" => s.clearance_um = num(k, v)?,
-            "dh" => s.dh_um = num(k, v)?,
-            "c" => s.c_n_per_mm = num(k, v)?,
-            "d" => s.d_n_s_per_m = num(k, v)?,
-            "m_r" => s.m_r_g = num(k, v)?,
-            "f_max" => s.f_max_hz = num(k, v)?,
-            "t_ramp" => s.t_ramp_s = num(k, v)?,
-            "mesh" => (s.n_elem_phi, s.n_elem_z) = crate::runup::parse_mesh(v, "mesh")?,
-            k if crate::sweep::is_fmu_key(k) => s.fmu_parameters.push((k.to_string(), v.clone())),
-            _ => {}
-        }
-    }
+    // The same mapping as the command line's (`airring stability` flags).
+    let flags = crate::design::DesignArgs {
+        preset: args
+            .get("preset")
+            .cloned()
+            .unwrap_or_else(|| "path1".into()),
+        design: args.get("design").map(std::path::PathBuf::from),
+        c: num("c")?,
+        d: num("d")?,
+        m_r: num("m_r")?,
+        clearance: num("clearance")?,
+        dh: num("dh")?,
+        mesh: args.get("mesh").cloned(),
+        set: args
+            .iter()
+            .filter(|(k, _)| crate::sweep::is_fmu_key(k))
+            .map(|(k, v)| format!("{k}={v}"))
+            .collect(),
+    };
+    let mut s = flags.settings()?;
+    s.f_max_hz = num("f_max")?.unwrap_or(s.f_max_hz);
+    s.t_ramp_s = num("t_ramp")?.unwrap_or(s.t_ramp_s);
     s.validate()?;
     Ok(s)
 }

@@ -213,7 +213,10 @@ fn a_design_file_is_the_same_description_as_the_flags() {
     assert_eq!(series_c, series_d);
     assert_ne!(series_a, series_c);
     // The example design runs as it is (default contact side) ...
-    runup(&dir.join("example"), &["--design", "studies/design_example.toml"]);
+    runup(
+        &dir.join("example"),
+        &["--design", "studies/design_example.toml"],
+    );
     // ... and in the linear analysis (one speed).
     let (ok, stdout, err) = airring(&[
         "stability",

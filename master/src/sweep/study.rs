@@ -8,6 +8,7 @@ use std::path::Path;
 /// (key, short name in run names, field of the run-up settings in summary.json, unit).
 pub const KEYS: &[(&str, &str, &str, &str)] = &[
     ("preset", "", "preset", ""),
+    ("design", "design", "design", ""),
     ("clearance", "C", "clearance_um", "um"),
     ("dh", "dH", "dh_um", "um"),
     ("c", "c", "c_n_per_mm", "N/mm"),
