@@ -211,7 +211,10 @@ impl<'a> Execution<'a> {
     ) -> Result<(), String> {
         let h = self.built.macro_step_s;
         let stop = self.built.stop_time_s;
-        let n_steps = (stop / h).round() as u64;
+        // A macro step that does not divide the stop time: the last step is shorter (it ends at
+        // the stop time, which an FMU must not be stepped past).
+        // (A remainder below 1e-6 of a macro step is rounding, not a step.)
+        let n_steps = (stop / h - 1e-6).ceil().max(1.0) as u64;
         let interval = self.built.output_interval_s;
         let mut next_output = 0;
         if let Some((m, states)) = &resumed_from {
@@ -281,8 +284,12 @@ impl<'a> Execution<'a> {
                 report.interrupted = true;
                 return Ok(());
             }
-            // Step to the grid point (k+1) h exactly, so the time does not drift over 10^5 steps.
-            let target = (*step_index + 1) as f64 * h;
+            // Step to the grid point (k+1) h exactly, so the time does not drift over 10^5 steps;
+            // the last one ends at the stop time if the grid would pass it.
+            let mut target = (*step_index + 1) as f64 * h;
+            if target > stop + 1e-9 * h {
+                target = stop;
+            }
             let r = self.built.cosim.step(target - t);
             for e in self.built.cosim.drain_events().collect::<Vec<_>>() {
                 for o in observers.iter_mut() {

@@ -7,6 +7,13 @@ use crate::system::{split_port, split_quantity, System, SystemError};
 use fmi2::importer::{Fmu, LogHandler, ModelDescription};
 use fmi2::{Causality, VarType};
 
+/// More macro steps than this in one run are refused (10^9 steps of the fastest FMUs here take
+/// days; the usual cause is a unit typo).
+pub const MAX_MACRO_STEPS: f64 = 1e9;
+
+/// More output rows than this are refused (10^8 rows of a run-up are ~60 GB of CSV).
+pub const MAX_OUTPUT_ROWS: f64 = 1e8;
+
 /// A ready co-simulation and the settings it was built with.
 pub struct Built {
     pub cosim: CoSim,
@@ -154,6 +161,37 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
         Some(v) => sys.seconds(v, "output.interval")?,
         None => macro_step_s * 10.0,
     };
+    // The time grid must be something a run can cover: at least one macro step, and not more
+    // steps or output rows than any run could store (a typo such as "1e-300 s" would otherwise
+    // write gigabytes of identical rows, or hang).
+    if macro_step_s > stop_time_s {
+        return Err(sys.error_at(
+            &alg.macro_step,
+            "algorithm.macro_step",
+            format!("{macro_step_s} s is longer than the stop time {stop_time_s} s"),
+        ));
+    }
+    if stop_time_s / macro_step_s > MAX_MACRO_STEPS {
+        return Err(sys.error_at(
+            &alg.macro_step,
+            "algorithm.macro_step",
+            format!(
+                "{macro_step_s} s gives {:.3e} macro steps to {stop_time_s} s (at most {MAX_MACRO_STEPS:e})",
+                stop_time_s / macro_step_s
+            ),
+        ));
+    }
+    if stop_time_s / output_interval_s > MAX_OUTPUT_ROWS {
+        let field = "output.interval";
+        let msg = format!(
+            "{output_interval_s} s gives {:.3e} output rows to {stop_time_s} s (at most {MAX_OUTPUT_ROWS:e})",
+            stop_time_s / output_interval_s
+        );
+        return Err(match &f.output.interval {
+            Some(v) => sys.error_at(v, field, msg),
+            None => SystemError(format!("{}: {field}: {msg}", sys.path.display())),
+        });
+    }
     let scheme = match alg.kind.get_ref().as_str() {
         "gauss-seidel" => Scheme::GaussSeidel,
         "jacobi" => Scheme::Jacobi,

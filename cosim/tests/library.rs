@@ -218,3 +218,73 @@ fn a_run_that_cannot_start_is_a_typed_error() {
     assert!(e.to_string().contains("no checkpoint"), "{e}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// One free oscillator with the given algorithm lines.
+fn single(dir: &Path, algorithm: &str, output: &str) -> PathBuf {
+    let text = format!(
+        "[[fmu]]\nname = \"a\"\npath = \"{}/oscillator.fmu\"\nparameters = {{ x0 = \"1 m\" }}\n\n\
+         [algorithm]\n{algorithm}\n\n[output]\n{output}\nvariables = [\"a.x\"]\n",
+        fmu_dir().display()
+    );
+    let path = dir.join("single.toml");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+#[test]
+fn a_macro_step_that_does_not_divide_the_stop_time_ends_with_a_shorter_step() {
+    let dir = tmp("remainder");
+    let sys = single(
+        &dir,
+        "macro_step = 0.03\nstop_time = 0.1",
+        "interval = 0.01",
+    );
+    let log = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    let mut rec = Recorder::default();
+    let report = cosim::run(&sys, &RunConfig::new(&dir), false, log, &mut [&mut rec]).unwrap();
+    assert!(report.completed && report.error.is_none(), "{report:?}");
+    assert_eq!(report.macro_steps, 4, "0.03, 0.06, 0.09, then 0.1");
+    assert_eq!(report.t_end_s, 0.1);
+    // Every output time (0, 0.01, ..., 0.1) is sampled at the first macro point at or after it,
+    // the last one at the stop time itself.
+    let times: Vec<f64> = rec.samples.iter().map(|s| s.0).collect();
+    assert_eq!(times.len(), 11, "{times:?}");
+    assert_eq!(*times.last().unwrap(), 0.1);
+    assert!(times
+        .iter()
+        .all(|t| [0.0, 0.03, 0.06, 0.09, 0.1].iter().any(|m| (t - m).abs() < 1e-15)));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn time_grids_no_run_can_cover_are_refused_before_anything_runs() {
+    let dir = tmp("grids");
+    let log = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    for (algorithm, output, expect) in [
+        (
+            "macro_step = 1e300\nstop_time = 0.1",
+            "interval = 0.01",
+            "longer than the stop time",
+        ),
+        (
+            "macro_step = \"1e-300 s\"\nstop_time = 1.0",
+            "interval = 0.1",
+            "macro steps",
+        ),
+        (
+            "macro_step = 0.01\nstop_time = 1.0",
+            "interval = 1e-300",
+            "output rows",
+        ),
+    ] {
+        let sys = single(&dir, algorithm, output);
+        let e = cosim::run(&sys, &RunConfig::new(&dir), false, log.clone(), &mut [])
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains(expect) && e.contains("single.toml"),
+            "{algorithm}: {e}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
