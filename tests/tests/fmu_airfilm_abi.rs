@@ -212,3 +212,27 @@ fn bad_inputs_are_refused() {
     let f = forces(&s);
     assert!(f[0].is_finite() && f[1].is_finite());
 }
+
+/// libcosim's order of calls: parameters, fmi2EnterInitializationMode, then every output read
+/// before any input is set (the journal centred, omega = 0). With `start_steady` the film starts
+/// from its steady state, which at omega = 0 is ambient pressure: no force, and the run goes on.
+/// (Before the fix the steady solve waited for a residual below round-off: "did not converge in
+/// 200 iterations (residual 1.37e-14)", and libcosim aborted the process.)
+#[test]
+fn start_steady_at_rest_reads_no_force_before_any_input() {
+    let fmu = load("airfilm");
+    let book = LogBook::default();
+    let s = fmu
+        .instantiate("film", false, book.handler())
+        .expect("instantiate");
+    s.setup_experiment(None, 0.0, None).unwrap();
+    s.set_boolean(&[vr::START_STEADY], &[true]).unwrap();
+    s.enter_initialization_mode().unwrap();
+    let mut f = [f64::NAN; 2];
+    s.get_real(&[vr::FX, vr::FY], &mut f).unwrap();
+    assert!(f[0].abs() < 1e-9 && f[1].abs() < 1e-9, "{f:?}");
+    s.exit_initialization_mode().unwrap();
+    s.do_step(0.0, 1e-4).unwrap();
+    s.get_real(&[vr::FX, vr::FY], &mut f).unwrap();
+    assert!(f[0].abs() < 1e-9 && f[1].abs() < 1e-9, "{f:?}");
+}
