@@ -122,12 +122,8 @@ pub struct ModeShape {
     pub rotor_node_residual: f64,
 }
 
-fn dofn_scale(z: C64, s: f64) -> C64 {
-    z.scale(s)
-}
-
 fn amp(p: &[C64; 2]) -> f64 {
-    (p[0].abs().powi(2) + p[1].abs().powi(2)).sqrt()
+    (p[0].norm_sqr() + p[1].norm_sqr()).sqrt()
 }
 
 impl ModeShape {
@@ -223,50 +219,45 @@ pub fn real_eigenvalues(lm: &LateralMatrices) -> Result<Vec<f64>, RotorError> {
 pub fn modes(lm: &LateralMatrices) -> Result<Vec<Mode>, RotorError> {
     let n = 16;
     let a = state_matrix(lm)?;
-    let ev = eigen::eigenvalues(n, &a)?;
     let mut out = Vec::new();
-    for lam in ev.into_iter().filter(|l| l.im > 0.0) {
-        let vec = eigen::eigenvector(n, &a, lam)?;
+    for (lam, vec) in eigen::eigenpairs(n, &a)?
+        .into_iter()
+        .filter(|(l, _)| l.im > 0.0)
+    {
         let mut dof = [C64::default(); 8];
         dof.copy_from_slice(&vec[..8]);
         let (ac, at) = (lm.a_c_m, lm.a_t_m);
         // small-angle journal kinematics: x_J = x + a beta, y_J = y - a alpha
-        let jc = [dof[0].add(dof[3].scale(ac)), dof[1].sub(dof[2].scale(ac))];
-        let jt = [dof[0].add(dof[3].scale(at)), dof[1].sub(dof[2].scale(at))];
+        let jc = [dof[0] + dof[3] * ac, dof[1] - dof[2] * ac];
+        let jt = [dof[0] + dof[3] * at, dof[1] - dof[2] * at];
         let rc = [dof[4], dof[5]];
         let rt = [dof[6], dof[7]];
         let big = amp(&jc).max(amp(&jt)).max(amp(&rc)).max(amp(&rt));
         let s = 1.0 / big;
-        let sc = |p: [C64; 2]| [p[0].scale(s), p[1].scale(s)];
+        let sc = |p: [C64; 2]| [p[0] * s, p[1] * s];
         let whirl_sum: f64 = [jc, jt, rc, rt]
             .iter()
-            .map(|p| p[0].conj().mul(p[1]).im)
+            .map(|p| (p[0].conj() * p[1]).im)
             .sum();
         // rotor orbit at axial offset s from the CM: U0 + s U1, U0 = (x, y), U1 = (beta, -alpha)
-        let u0 = [dofn_scale(dof[0], s), dofn_scale(dof[1], s)];
-        let u1 = [dofn_scale(dof[3], s), dofn_scale(dof[2], -s)];
-        let n1 = u1[0].abs().powi(2) + u1[1].abs().powi(2);
+        let u0 = [dof[0] * s, dof[1] * s];
+        let u1 = [dof[3] * s, dof[2] * -s];
+        let n1 = u1[0].norm_sqr() + u1[1].norm_sqr();
         let node_s = if n1 > 0.0 {
-            -(u1[0].conj().mul(u0[0]).re + u1[1].conj().mul(u0[1]).re) / n1
+            -((u1[0].conj() * u0[0]).re + (u1[1].conj() * u0[1]).re) / n1
         } else {
             f64::INFINITY
         };
         let node_res = if n1 > 0.0 {
-            amp(&[
-                u0[0].add(u1[0].scale(node_s)),
-                u0[1].add(u1[1].scale(node_s)),
-            ])
+            amp(&[u0[0] + u1[0] * node_s, u0[1] + u1[1] * node_s])
         } else {
             amp(&u0)
         };
-        let mut dofn = dof;
-        for z in dofn.iter_mut() {
-            *z = z.scale(s);
-        }
+        let dofn = dof.map(|z| z * s);
         out.push(Mode {
             eigenvalue: lam,
             freq_hz: lam.im / (2.0 * std::f64::consts::PI),
-            damping_ratio: -lam.re / lam.abs(),
+            damping_ratio: -lam.re / lam.norm(),
             whirl: if whirl_sum < 0.0 {
                 Whirl::Forward
             } else {

@@ -1,0 +1,351 @@
+//! Kernel tests of the hand-written linear algebra in `linalg` (the LU factorization and the 3x3
+//! helpers), in the manner of faer's own tests: residuals on seeded random matrices, checked
+//! against independent solutions (faer's partial-pivoting LU, nalgebra's 3x3 arithmetic).
+use fmu_rotor::linalg::*;
+use fmu_rotor::RotorError;
+
+/// A tiny 64-bit LCG (Knuth's MMIX constants): reproducible inputs without a dev-dependency.
+struct Lcg(u64);
+
+impl Lcg {
+    /// Uniform in [-1, 1).
+    fn next(&mut self) -> f64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    }
+    fn vec(&mut self, n: usize) -> Vec<f64> {
+        (0..n).map(|_| self.next()).collect()
+    }
+}
+
+const EPS: f64 = f64::EPSILON;
+
+fn inf_norm_mat(n: usize, a: &[f64]) -> f64 {
+    (0..n)
+        .map(|i| a[i * n..(i + 1) * n].iter().map(|x| x.abs()).sum::<f64>())
+        .fold(0.0, f64::max)
+}
+
+fn inf_norm(v: &[f64]) -> f64 {
+    v.iter().fold(0.0, |m, x| m.max(x.abs()))
+}
+
+/// ||A x - b||_inf / (||A||_inf ||x||_inf), the normwise backward error of a solve.
+fn backward_error(n: usize, a: &[f64], x: &[f64], b: &[f64]) -> f64 {
+    let r: Vec<f64> = (0..n)
+        .map(|i| {
+            let ax: f64 = (0..n).map(|j| a[i * n + j] * x[j]).sum();
+            ax - b[i]
+        })
+        .collect();
+    inf_norm(&r) / (inf_norm_mat(n, a) * inf_norm(x))
+}
+
+/// faer's partial-pivoting LU solve (an independent implementation) and the 2-norm condition
+/// number of `a`.
+fn faer_solve_and_cond(n: usize, a: &[f64], b: &[f64]) -> (Vec<f64>, f64) {
+    use faer::linalg::solvers::Solve;
+    let m = faer::Mat::from_fn(n, n, |i, j| a[i * n + j]);
+    let rhs = faer::Mat::from_fn(n, 1, |i, _| b[i]);
+    let x = m.partial_piv_lu().solve(&rhs);
+    let s = m.singular_values().unwrap();
+    let cond = s[0] / s[n - 1];
+    ((0..n).map(|i| x[(i, 0)]).collect(), cond)
+}
+
+fn check_solve(n: usize, a: &[f64], b: &[f64], label: &str) {
+    let lu = Lu::factor(n, a.to_vec(), "kernel test").unwrap();
+    assert_eq!(lu.dim(), n);
+    let mut x = b.to_vec();
+    lu.solve(&mut x);
+    let be = backward_error(n, a, &x, b);
+    assert!(
+        be < 4.0 * n as f64 * EPS,
+        "{label}: backward error {be:.2e} (n = {n})"
+    );
+    let (xf, cond) = faer_solve_and_cond(n, a, b);
+    let diff: Vec<f64> = x.iter().zip(&xf).map(|(p, q)| p - q).collect();
+    let rel = inf_norm(&diff) / inf_norm(&x);
+    // Both solutions are backward stable: they differ by at most ~ cond * n * eps.
+    assert!(
+        rel <= 8.0 * n as f64 * EPS * cond,
+        "{label}: |x - x_faer| / |x| = {rel:.2e}, cond = {cond:.2e} (n = {n})"
+    );
+    // The convenience wrapper is the same computation.
+    let mut y = b.to_vec();
+    solve_dense(n, a.to_vec(), &mut y, "kernel test").unwrap();
+    assert_eq!(x, y, "{label}: solve_dense differs from Lu (n = {n})");
+}
+
+#[test]
+fn lu_solves_random_dense_matrices_of_sizes_1_to_60() {
+    let mut rng = Lcg(0x5eed_0001);
+    for n in 1..=60 {
+        for rep in 0..3 {
+            let a = rng.vec(n * n);
+            let b = rng.vec(n);
+            check_solve(n, &a, &b, &format!("dense #{rep}"));
+        }
+    }
+}
+
+/// The GGL iteration matrix is mostly zeros, with zero diagonal blocks in the constraint rows
+/// (a saddle point [[A, G^T], [G, 0]]): pivoting must go off the diagonal, and the elimination
+/// skips zero multipliers.
+#[test]
+fn lu_solves_sparse_saddle_point_matrices() {
+    let mut rng = Lcg(0x5eed_0002);
+    for (nq, nc) in [(1, 1), (6, 2), (18, 10), (28, 28), (40, 20)] {
+        let n = nq + nc;
+        let mut a = vec![0.0; n * n];
+        for i in 0..nq {
+            a[i * n + i] = 2.0 + rng.next();
+            for j in 0..nq {
+                if rng.next() > 0.8 {
+                    a[i * n + j] += rng.next();
+                }
+            }
+        }
+        for c in 0..nc {
+            // Each constraint row touches a few coordinates, always its own one (full rank).
+            let own = c * nq / nc;
+            a[(nq + c) * n + own] = 1.0 + rng.next().abs();
+            a[own * n + nq + c] = a[(nq + c) * n + own];
+            for j in 0..nq {
+                if j != own && rng.next() > 0.9 {
+                    let g = rng.next();
+                    a[(nq + c) * n + j] = g;
+                    a[j * n + nq + c] = g;
+                }
+            }
+        }
+        let b = rng.vec(n);
+        check_solve(n, &a, &b, &format!("saddle point nq = {nq}, nc = {nc}"));
+    }
+}
+
+/// Badly scaled rows (1e-8 ... 1e8), as in the iteration matrix where masses, beta h and
+/// constraint gradients meet.
+#[test]
+fn lu_solves_badly_scaled_matrices() {
+    let mut rng = Lcg(0x5eed_0003);
+    for n in [2, 7, 16, 56] {
+        let mut a = rng.vec(n * n);
+        for i in 0..n {
+            let s = 10f64.powf(8.0 * rng.next());
+            for j in 0..n {
+                a[i * n + j] *= s;
+            }
+        }
+        let b = rng.vec(n);
+        // Row scaling does not change the backward error of partial pivoting much, but the
+        // normwise bound is looser: compare with faer through the condition number only.
+        let lu = Lu::factor(n, a.clone(), "kernel test").unwrap();
+        let mut x = b.clone();
+        lu.solve(&mut x);
+        let (xf, cond) = faer_solve_and_cond(n, &a, &b);
+        let diff: Vec<f64> = x.iter().zip(&xf).map(|(p, q)| p - q).collect();
+        let rel = inf_norm(&diff) / inf_norm(&x);
+        assert!(
+            rel <= 8.0 * n as f64 * EPS * cond,
+            "n = {n}: {rel:.2e}, cond {cond:.2e}"
+        );
+        let be = backward_error(n, &a, &x, &b);
+        assert!(
+            be < 4.0 * n as f64 * EPS,
+            "n = {n}: backward error {be:.2e}"
+        );
+    }
+}
+
+#[test]
+fn lu_is_exact_on_a_permuted_triangular_system() {
+    // P A = L U with small integers: every operation is exact, so is the solution.
+    // A = [[0, 2, 1], [1, 1, 1], [2, 0, 4]], x = (1, -2, 3) -> b = (-1, 2, 14).
+    let a = vec![0.0, 2.0, 1.0, 1.0, 1.0, 1.0, 2.0, 0.0, 4.0];
+    let lu = Lu::factor(3, a, "exact").unwrap();
+    let mut b = [-1.0, 2.0, 14.0];
+    lu.solve(&mut b);
+    assert_eq!(b, [1.0, -2.0, 3.0]);
+}
+
+#[test]
+fn a_singular_matrix_is_an_error_naming_the_system() {
+    let mut rng = Lcg(0x5eed_0004);
+    let check = |n: usize, a: Vec<f64>, label: &str| match Lu::factor(n, a, "test matrix") {
+        Err(e @ RotorError::Singular(what)) => {
+            assert_eq!(what, "test matrix", "{label}");
+            assert!(e.to_string().contains("test matrix"), "{label}: {e}");
+        }
+        other => panic!("{label}: expected Singular, got {other:?}"),
+    };
+    // Only exact zero pivots are detected (a numerically singular matrix with round-off in its
+    // last pivot is not): matrices whose elimination is exact, or with a zero row or column.
+    check(1, vec![0.0], "1 x 1 zero");
+    // Row 2 = 2 x row 1 (pivot 2, multiplier 0.5: exact), row 3 independent.
+    check(
+        3,
+        vec![1.0, 2.0, 3.0, 2.0, 4.0, 6.0, 1.0, 1.0, 1.0],
+        "dependent rows, exact elimination",
+    );
+    check(4, vec![0.0; 16], "zero matrix");
+    for n in [2, 5, 17, 56] {
+        // A zero column.
+        let mut a = rng.vec(n * n);
+        let j0 = n / 2;
+        for i in 0..n {
+            a[i * n + j0] = 0.0;
+        }
+        check(n, a, &format!("zero column, n = {n}"));
+        // A zero row: never chosen as pivot, it is the last row left, with a zero pivot.
+        let mut a = rng.vec(n * n);
+        for j in 0..n {
+            a[(n / 3) * n + j] = 0.0;
+        }
+        check(n, a, &format!("zero row, n = {n}"));
+        // A pivot column without a finite nonzero entry (here NaN over zeros) is reported too.
+        let mut a = rng.vec(n * n);
+        a[0] = f64::NAN;
+        a[n * n - 1] = f64::INFINITY;
+        for i in 0..n {
+            a[i * n] = if i == 0 { f64::NAN } else { 0.0 };
+        }
+        check(n, a, &format!("NaN column, n = {n}"));
+    }
+    let mut b = [1.0, 2.0];
+    match solve_dense(2, vec![1.0, 2.0, 2.0, 4.0], &mut b, "wrapper") {
+        Err(RotorError::Singular(what)) => assert_eq!(what, "wrapper"),
+        other => panic!("expected Singular, got {other:?}"),
+    }
+}
+
+/// The factors are state of the integrator: a serialized and restored LU must solve
+/// bit-identically.
+#[test]
+fn lu_factors_survive_serialization_bit_identically() {
+    let mut rng = Lcg(0x5eed_0005);
+    let n = 56;
+    let a = rng.vec(n * n);
+    let lu = Lu::factor(n, a, "serde").unwrap();
+    let bytes = bincode::serialize(&lu).unwrap();
+    let back: Lu = bincode::deserialize(&bytes).unwrap();
+    let b = rng.vec(n);
+    let (mut x, mut y) = (b.clone(), b.clone());
+    lu.solve(&mut x);
+    back.solve(&mut y);
+    assert!(x.iter().zip(&y).all(|(p, q)| p.to_bits() == q.to_bits()));
+}
+
+// ----- 3x3 helpers against nalgebra -----
+
+fn na_m(a: &Mat3) -> nalgebra::Matrix3<f64> {
+    nalgebra::Matrix3::from_fn(|i, j| a[i][j])
+}
+
+fn na_v(v: &Vec3) -> nalgebra::Vector3<f64> {
+    nalgebra::Vector3::new(v[0], v[1], v[2])
+}
+
+fn close_v(x: Vec3, y: nalgebra::Vector3<f64>, scale: f64, label: &str) {
+    for k in 0..3 {
+        assert!(
+            (x[k] - y[k]).abs() <= 4.0 * EPS * scale,
+            "{label}[{k}]: {} vs {}",
+            x[k],
+            y[k]
+        );
+    }
+}
+
+#[test]
+fn mat3_helpers_match_nalgebra() {
+    let mut rng = Lcg(0x5eed_0006);
+    for _ in 0..1000 {
+        let s = 10f64.powf(3.0 * rng.next());
+        let a: Mat3 = [
+            [rng.next() * s, rng.next() * s, rng.next() * s],
+            [rng.next() * s, rng.next() * s, rng.next() * s],
+            [rng.next() * s, rng.next() * s, rng.next() * s],
+        ];
+        let b: Mat3 = [
+            [rng.next(), rng.next(), rng.next()],
+            [rng.next(), rng.next(), rng.next()],
+            [rng.next(), rng.next(), rng.next()],
+        ];
+        let v: Vec3 = [rng.next(), rng.next(), rng.next()];
+        let (am, bm, vn) = (na_m(&a), na_m(&b), na_v(&v));
+        // Each entry is a 3-term sum of products: bounded by 3 |a|max |v|max.
+        let scale = 3.0 * s;
+        close_v(mat3_vec(&a, &v), am * vn, scale, "mat3_vec");
+        close_v(mat3t_vec(&a, &v), am.transpose() * vn, scale, "mat3t_vec");
+        let ab = mat3_mul(&a, &b);
+        let abn = am * bm;
+        for i in 0..3 {
+            for j in 0..3 {
+                assert!((ab[i][j] - abn[(i, j)]).abs() <= 4.0 * EPS * scale);
+            }
+        }
+        let at = transpose3(&a);
+        assert_eq!(na_m(&at), am.transpose(), "transpose3 is exact");
+    }
+}
+
+#[test]
+fn vec3_helpers_match_nalgebra() {
+    let mut rng = Lcg(0x5eed_0007);
+    for _ in 0..1000 {
+        let s = 10f64.powf(3.0 * rng.next());
+        let a: Vec3 = [rng.next() * s, rng.next() * s, rng.next() * s];
+        let b: Vec3 = [rng.next(), rng.next(), rng.next()];
+        let (an, bn) = (na_v(&a), na_v(&b));
+        close_v(cross(&a, &b), an.cross(&bn), 2.0 * s, "cross");
+        let d = dot(&a, &b);
+        assert!((d - an.dot(&bn)).abs() <= 4.0 * EPS * 3.0 * s, "dot");
+        // cross is orthogonal to both factors and antisymmetric (exactly: same products).
+        let c = cross(&a, &b);
+        assert!(dot(&c, &a).abs() <= 16.0 * EPS * s * s && dot(&c, &b).abs() <= 16.0 * EPS * s);
+        let c2 = cross(&b, &a);
+        assert_eq!(c, [-c2[0], -c2[1], -c2[2]]);
+    }
+    // Right-handed basis.
+    assert_eq!(cross(&[1.0, 0.0, 0.0], &[0.0, 1.0, 0.0]), [0.0, 0.0, 1.0]);
+    assert_eq!(cross(&[0.0, 1.0, 0.0], &[0.0, 0.0, 1.0]), [1.0, 0.0, 0.0]);
+}
+
+/// On a rotation matrix R: R^T R v = v and R^T v = R^-1 v (the helpers' use in the body
+/// kinematics), compared with nalgebra's Rotation3 built from the same axis and angle.
+#[test]
+fn rotation_helpers_match_nalgebra_rotation3() {
+    let mut rng = Lcg(0x5eed_0008);
+    for _ in 0..200 {
+        let axis = nalgebra::Unit::new_normalize(nalgebra::Vector3::new(
+            rng.next(),
+            rng.next(),
+            rng.next() + 1e-3,
+        ));
+        let angle = 3.0 * rng.next();
+        let rot = nalgebra::Rotation3::from_axis_angle(&axis, angle);
+        let r: Mat3 = [
+            [rot[(0, 0)], rot[(0, 1)], rot[(0, 2)]],
+            [rot[(1, 0)], rot[(1, 1)], rot[(1, 2)]],
+            [rot[(2, 0)], rot[(2, 1)], rot[(2, 2)]],
+        ];
+        let v: Vec3 = [rng.next(), rng.next(), rng.next()];
+        close_v(mat3_vec(&r, &v), rot * na_v(&v), 3.0, "R v");
+        close_v(mat3t_vec(&r, &v), rot.inverse() * na_v(&v), 3.0, "R^T v");
+        let back = mat3t_vec(&r, &mat3_vec(&r, &v));
+        for k in 0..3 {
+            assert!((back[k] - v[k]).abs() <= 16.0 * EPS);
+        }
+        let rtr = mat3_mul(&transpose3(&r), &r);
+        for i in 0..3 {
+            for j in 0..3 {
+                let id = if i == j { 1.0 } else { 0.0 };
+                assert!((rtr[i][j] - id).abs() <= 16.0 * EPS);
+            }
+        }
+    }
+}
