@@ -5,8 +5,8 @@
 use crate::checkpoint::{self, MasterState};
 use crate::error::RunError;
 use crate::observer::{Observer, RunStart};
+use crate::report::RunReport;
 use crate::setup::{build, Built};
-use crate::step_control::ControlStats;
 use crate::system::System;
 use fmi2::importer::LogHandler;
 use std::path::{Path, PathBuf};
@@ -37,28 +37,6 @@ impl RunConfig {
             halt_at_s: None,
         }
     }
-}
-
-/// How a run ended and where its time went.
-#[derive(Debug, Default, serde::Serialize)]
-pub struct RunReport {
-    pub completed: bool,
-    pub interrupted: bool,
-    pub error: Option<String>,
-    pub t_end_s: f64,
-    pub macro_steps: u64,
-    pub retries: u64,
-    pub wall_time_s: f64,
-    /// Wall time in each subsystem's fmi2DoStep, and everything else (the master's own work).
-    pub wall_per_subsystem_s: Vec<(String, f64)>,
-    pub master_overhead_s: f64,
-    /// Parts of the master's own time: state saving, coupling (polynomials, get/set), thread hand-over.
-    pub master_parts_s: Vec<(String, f64)>,
-    /// What the macro-step control did (None: fixed macro step).
-    pub control: Option<ControlStats>,
-    /// Integer outputs of each FMU at the end (solver counters such as the air film's
-    /// `n_pressure_floored`; counted since the start or the resumed checkpoint).
-    pub counters: Vec<(String, Vec<(String, i32)>)>,
 }
 
 /// Output sample index -> time; computed from the index so that times do not drift.

@@ -23,6 +23,7 @@ pub mod execution;
 pub mod observer;
 pub mod parallel;
 pub mod polynomial;
+pub mod report;
 pub mod setup;
 pub mod ssp;
 pub mod step_control;
@@ -32,8 +33,9 @@ pub mod timeseries;
 
 pub use algorithm::{AlgorithmConfig, CoSim, Event, Scheme};
 pub use error::{RunError, StepError};
-pub use execution::{run, RunConfig, RunReport};
+pub use execution::{run, RunConfig};
 pub use observer::{Observer, RunStart};
+pub use report::RunReport;
 pub use setup::{build, Built, Recorded};
 pub use step_control::{ControlStats, StepControl};
 pub use system::{System, SystemError};

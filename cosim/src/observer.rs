@@ -5,7 +5,7 @@
 
 use crate::algorithm::{CoSim, Event};
 use crate::checkpoint::MasterState;
-use crate::execution::RunReport;
+use crate::report::RunReport;
 use crate::setup::Recorded;
 
 /// The run as an observer first sees it.

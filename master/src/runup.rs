@@ -193,6 +193,13 @@ impl RunupSettings {
         Ok([film("film_C")?, film("film_T")?])
     }
 
+    /// The rotor's parameters as the run-up's system file gives them, mapped by the rotor FMU's
+    /// own `params_from`.
+    pub fn rotor_params(&self) -> Result<fmu_rotor::RotorParams, String> {
+        let store = crate::fmu_params::store_for("rotor", &self.instance_parameters("rotor"))?;
+        Ok(fmu_rotor::shell::params_from(&store))
+    }
+
     /// See `validate_runup`.
     fn check_contact_geometry(&self) -> Result<(), String> {
         if self.contact != ContactSide::Rotor {
@@ -369,7 +376,7 @@ impl RunupSettings {
 /// The bearings as the run-up's FMUs get them, in the units engineers read: "c = 1000 N/mm,
 /// d = 50 N s/m, m_R = 50 g, C = 20 um, dH = 40 um", with "C/T" pairs where the bearings differ.
 pub fn describe_bearings(s: &RunupSettings) -> Result<String, String> {
-    let (rotor, films) = crate::stability::params_of(s)?;
+    let (rotor, films) = (s.rotor_params()?, s.film_params()?);
     let pair = |c: f64, t: f64| {
         // Rounded for reading (unit conversions leave 1e-12 residues).
         let r = |x: f64| (x * 1e9).round() / 1e9;

@@ -26,8 +26,7 @@ use std::f64::consts::TAU;
 /// linearization has no contact of its own, wherever a run-up evaluates it.
 pub fn params_of(s: &RunupSettings) -> Result<(RotorParams, [BearingParams; 2]), String> {
     s.checked_fmu_parameters()?;
-    let rotor_store = crate::fmu_params::store_for("rotor", &s.instance_parameters("rotor"))?;
-    let rotor = fmu_rotor::shell::params_from(&rotor_store);
+    let rotor = s.rotor_params()?;
     let mut films = s.film_params()?;
     for f in &mut films {
         f.contact_in_force = true;

@@ -1,0 +1,25 @@
+//! How a run ended and where its time went: what the run loop hands back and observers see last.
+
+use crate::step_control::ControlStats;
+
+/// How a run ended and where its time went.
+#[derive(Debug, Default, serde::Serialize)]
+pub struct RunReport {
+    pub completed: bool,
+    pub interrupted: bool,
+    pub error: Option<String>,
+    pub t_end_s: f64,
+    pub macro_steps: u64,
+    pub retries: u64,
+    pub wall_time_s: f64,
+    /// Wall time in each subsystem's fmi2DoStep, and everything else (the master's own work).
+    pub wall_per_subsystem_s: Vec<(String, f64)>,
+    pub master_overhead_s: f64,
+    /// Parts of the master's own time: state saving, coupling (polynomials, get/set), thread hand-over.
+    pub master_parts_s: Vec<(String, f64)>,
+    /// What the macro-step control did (None: fixed macro step).
+    pub control: Option<ControlStats>,
+    /// Integer outputs of each FMU at the end (solver counters such as the air film's
+    /// `n_pressure_floored`; counted since the start or the resumed checkpoint).
+    pub counters: Vec<(String, Vec<(String, i32)>)>,
+}
