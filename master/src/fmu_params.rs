@@ -118,7 +118,9 @@ impl FmuParameter {
     /// The value as a TOML literal for a system file (strings keep their unit).
     pub fn toml_literal(&self) -> String {
         match self.value {
-            Value::Real(_) if self.text.parse::<f64>().is_err() => format!("\"{}\"", self.text),
+            Value::Real(_) if self.text.parse::<f64>().is_err() => {
+                crate::runup::toml_string(&self.text)
+            }
             Value::Real(x) => format!("{x:?}"),
             Value::Integer(i) => i.to_string(),
             Value::Boolean(b) => b.to_string(),

@@ -493,11 +493,18 @@ fn main() -> ExitCode {
             let s = settings(&args)?;
             s.validate_runup()?;
             let dir = fmu_dir(args.fmu_dir.clone())?;
+            // TOML is UTF-8: a folder whose name is not cannot be written into a system file.
+            let dir_text = dir.to_str().ok_or_else(|| {
+                format!(
+                    "--fmu-dir {}: the folder's path is not valid UTF-8, which a system file cannot \
+                     hold; link or copy the FMUs to a folder with a UTF-8 name",
+                    dir.display()
+                )
+            })?;
             let out = common.out.clone().unwrap_or_else(|| default_out(&s.preset));
             std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
             let sys_path = out.join("system.toml");
-            std::fs::write(&sys_path, s.system_toml(&dir.to_string_lossy()))
-                .map_err(|e| e.to_string())?;
+            std::fs::write(&sys_path, s.system_toml(dir_text)).map_err(|e| e.to_string())?;
             eprintln!(
                 "run-up '{}': {}, 0 -> {} Hz in {} s; macro step {} us -> {}",
                 s.preset,

@@ -318,14 +318,16 @@ impl RunupSettings {
         .unwrap();
         writeln!(
             s,
-            "[[fmu]]\nname = \"rotor\"\npath = \"{fmu_dir}/rotor.fmu\"\n{}",
+            "[[fmu]]\nname = \"rotor\"\npath = {}\n{}",
+            toml_string(&format!("{fmu_dir}/rotor.fmu")),
             table("rotor")
         )
         .unwrap();
         for side in ["C", "T"] {
             writeln!(
                 s,
-                "\n[[fmu]]\nname = \"film_{side}\"\npath = \"{fmu_dir}/airfilm.fmu\"\n{}",
+                "\n[[fmu]]\nname = \"film_{side}\"\npath = {}\n{}",
+                toml_string(&format!("{fmu_dir}/airfilm.fmu")),
                 table(&format!("film_{side}"))
             )
             .unwrap();
@@ -414,6 +416,12 @@ fn rotor_contact_parameters(
         ("bearing_h_con_rel", format!("{:?}", law.h_con_rel)),
         ("bearing_c_con", format!("{:?}", law.c_con_n_per_m3)),
     ]
+}
+
+/// `s` as a TOML basic string, quotes, backslashes and control characters escaped (a folder
+/// named `a"b\c` or a value with a newline must not break the system file).
+pub fn toml_string(s: &str) -> String {
+    toml::Value::String(s.to_string()).to_string()
 }
 
 /// "X,Y" as two numbers (spaces allowed).

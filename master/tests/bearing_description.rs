@@ -246,3 +246,25 @@ fn a_design_file_is_the_same_description_as_the_flags() {
     assert!(!dir.join("bad").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The generated system file is valid TOML whatever the FMU folder is called: quotes and
+/// backslashes in --fmu-dir are escaped (before: the run-up failed although the folder held both
+/// FMUs; issue #17 item 8).
+#[test]
+fn an_fmu_folder_with_quotes_and_backslashes_runs() {
+    let dir = tmp("quotes");
+    let odd = dir.join("fmus \"x\" \\y");
+    std::fs::create_dir_all(&odd).unwrap();
+    for f in ["rotor.fmu", "airfilm.fmu"] {
+        std::fs::copy(root().join("target/fmu").join(f), odd.join(f)).unwrap();
+    }
+    let out = dir.join("run");
+    runup(&out, &["--fmu-dir", odd.to_str().unwrap()]);
+    let sys: toml::Table = std::fs::read_to_string(out.join("system.toml"))
+        .unwrap()
+        .parse()
+        .unwrap();
+    let path = sys["fmu"][0]["path"].as_str().unwrap();
+    assert!(path.ends_with("fmus \"x\" \\y/rotor.fmu"), "{path}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
