@@ -1,10 +1,19 @@
-//! Checkpoints: the FMU states (fmi2SerializeFMUstate) and the master's own state, written
-//! atomically (temporary file, then rename) so a crash during a write leaves the previous one intact.
+//! Checkpoints: the FMU states (fmi2SerializeFMUstate) and the master's own state.
+//!
+//! A checkpoint is a generation: its state files carry the generation's tag in their names
+//! (`film_C.<tag>.state`), are written and synced first, and only then does `master.json`, also
+//! written to a temporary file, synced and renamed, point to them (with each file's length and
+//! checksum). A write cut short at any moment (a kill, a full disk) therefore leaves the previous
+//! `master.json` and the files it names intact; the files of older generations are removed only
+//! after the new `master.json` is in place. A resume checks every file against `master.json`.
 
 use crate::algorithm::AlgorithmState;
 use serde::{Deserialize, Serialize};
 use std::collections::VecDeque;
 use std::path::Path;
+
+/// (instance name, byte length, FNV-1a 64 checksum) of a state file.
+pub type StateCheck = (String, u64, u64);
 
 /// The master's own state in `checkpoint/master.json` (the FMU states are files beside it).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -23,6 +32,13 @@ pub struct MasterState {
     /// Refinement level of the macro-step control (0 in checkpoints written before it existed).
     #[serde(default)]
     pub refine_level: u32,
+    /// The generation of the state files (`<instance>.<tag>.state`); None in checkpoints written
+    /// before generations existed (`<instance>.state`).
+    #[serde(default)]
+    pub states_tag: Option<String>,
+    /// Per instance: its state file's check; empty in older checkpoints (then unchecked).
+    #[serde(default)]
+    pub state_checks: Vec<StateCheck>,
 }
 
 pub const FORMAT: u32 = 1;
@@ -45,6 +61,8 @@ impl MasterState {
             histories: state.histories.iter().map(encode_history).collect(),
             wall_before_s,
             refine_level: state.refine_level,
+            states_tag: None,
+            state_checks: vec![],
         }
     }
 
@@ -75,14 +93,63 @@ pub fn decode_history(h: &[(u64, Vec<u64>)]) -> VecDeque<(f64, Vec<f64>)> {
         .collect()
 }
 
-fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let tmp = path.with_extension("tmp");
-    std::fs::write(&tmp, bytes)?;
-    std::fs::rename(&tmp, path)
+/// FNV-1a 64 of `bytes`: detects a truncated, corrupted or swapped state file (not an attack).
+fn checksum(bytes: &[u8]) -> u64 {
+    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3)
+    })
 }
 
-/// Writes `dir/checkpoint/` (one `.state` file per instance, then `master.json` last, so a
-/// `master.json` always refers to complete state files).
+/// Writes `bytes` to a temporary file, syncs it, renames it to `path` and syncs the folder, so
+/// `path` holds either its old or its new content, whole, also after a crash.
+fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    use std::io::Write;
+    let tmp = path.with_extension("tmp");
+    let mut f = std::fs::File::create(&tmp)?;
+    f.write_all(bytes)?;
+    f.sync_all()?;
+    drop(f);
+    std::fs::rename(&tmp, path)?;
+    if let Some(parent) = path.parent() {
+        std::fs::File::open(parent)?.sync_all()?;
+    }
+    Ok(())
+}
+
+fn state_file(name: &str, tag: Option<&str>) -> String {
+    match tag {
+        Some(t) => format!("{name}.{t}.state"),
+        None => format!("{name}.state"),
+    }
+}
+
+/// A tag no earlier generation of this folder has: the macro-step index and the wall clock.
+fn new_tag(step_index: u64) -> String {
+    let nanos = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    format!("{step_index}-{nanos}")
+}
+
+/// Writes the state files of a new generation (step 1 of a checkpoint); returns its tag and
+/// the files' checks for `master.json`.
+fn write_states(
+    cp: &Path,
+    names: &[String],
+    states: &[Vec<u8>],
+    step_index: u64,
+) -> std::io::Result<(String, Vec<StateCheck>)> {
+    let tag = new_tag(step_index);
+    let mut checks = Vec::with_capacity(names.len());
+    for (n, s) in names.iter().zip(states) {
+        write_atomic(&cp.join(state_file(n, Some(&tag))), s)?;
+        checks.push((n.clone(), s.len() as u64, checksum(s)));
+    }
+    Ok((tag, checks))
+}
+
+/// Writes `dir/checkpoint/`: a new generation of state files, then `master.json` naming it,
+/// then removes the state files of older generations (see the module documentation).
 pub fn write(
     dir: &Path,
     names: &[String],
@@ -91,15 +158,36 @@ pub fn write(
 ) -> std::io::Result<()> {
     let cp = dir.join("checkpoint");
     std::fs::create_dir_all(&cp)?;
-    for (n, s) in names.iter().zip(states) {
-        write_atomic(&cp.join(format!("{n}.state")), s)?;
-    }
+    let (tag, checks) = write_states(&cp, names, states, master.step_index)?;
+    let master = MasterState {
+        states_tag: Some(tag.clone()),
+        state_checks: checks,
+        ..master.clone()
+    };
     write_atomic(
         &cp.join("master.json"),
-        serde_json::to_string_pretty(master)
+        serde_json::to_string_pretty(&master)
             .expect("plain data")
             .as_bytes(),
-    )
+    )?;
+    // Older generations are garbage now; failing to remove them loses nothing.
+    let current: Vec<String> = names.iter().map(|n| state_file(n, Some(&tag))).collect();
+    for e in std::fs::read_dir(&cp)?.flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if name.ends_with(".state") && !current.contains(&name) {
+            let _ = std::fs::remove_file(e.path());
+        }
+    }
+    Ok(())
+}
+
+/// Removes a run folder's checkpoint (a fresh run into a reused folder must not leave one that a
+/// later `resume` would continue from).
+pub fn remove(dir: &Path) -> std::io::Result<()> {
+    match std::fs::remove_dir_all(dir.join("checkpoint")) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(e),
+        _ => Ok(()),
+    }
 }
 
 pub fn read(dir: &Path, names: &[String]) -> Result<(MasterState, Vec<Vec<u8>>), String> {
@@ -117,9 +205,126 @@ pub fn read(dir: &Path, names: &[String]) -> Result<(MasterState, Vec<Vec<u8>>),
     let states = names
         .iter()
         .map(|n| {
-            std::fs::read(cp.join(format!("{n}.state")))
-                .map_err(|e| format!("{}/{n}.state: {e}", cp.display()))
+            let file = state_file(n, m.states_tag.as_deref());
+            let bytes = std::fs::read(cp.join(&file))
+                .map_err(|e| format!("{}/{file}: {e}", cp.display()))?;
+            if let Some((_, len, sum)) = m.state_checks.iter().find(|c| &c.0 == n) {
+                if bytes.len() as u64 != *len || checksum(&bytes) != *sum {
+                    return Err(format!(
+                        "{}/{file}: does not match master.json ({} bytes, expected {len}): \
+                         the checkpoint is damaged",
+                        cp.display(),
+                        bytes.len()
+                    ));
+                }
+            } else if !m.state_checks.is_empty() {
+                return Err(format!(
+                    "{}/master.json: no check for instance '{n}'",
+                    cp.display()
+                ));
+            }
+            Ok(bytes)
         })
         .collect::<Result<Vec<_>, _>>()?;
     Ok((m, states))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn tmp(name: &str) -> std::path::PathBuf {
+        let d = std::env::temp_dir().join(format!("cosim-cp-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    fn master(step: u64) -> MasterState {
+        let state = AlgorithmState {
+            t_s: step as f64 * 1e-3,
+            histories: vec![VecDeque::new(), VecDeque::new()],
+            refine_level: 0,
+        };
+        MasterState::new(&state, step, step, 1.0)
+    }
+
+    #[test]
+    fn a_write_cut_short_leaves_the_previous_checkpoint_whole() {
+        let dir = tmp("cut");
+        let names = vec!["a".to_string(), "b".to_string()];
+        write(&dir, &names, &[vec![1; 100], vec![2; 50]], &master(10)).unwrap();
+        // The next checkpoint's state files are written, then the process dies before its
+        // master.json: the first checkpoint still reads back, whole.
+        let cp = dir.join("checkpoint");
+        write_states(&cp, &names, &[vec![3; 7], vec![4; 7]], 20).unwrap();
+        // ... also with a half-written master.json.tmp left behind.
+        std::fs::write(cp.join("master.tmp"), "{ \"format\": 1, \"t_b").unwrap();
+        let (m, states) = read(&dir, &names).unwrap();
+        assert_eq!(m.step_index, 10);
+        assert_eq!(states, [vec![1; 100], vec![2; 50]]);
+        // A complete write replaces it and removes every older state file.
+        write(&dir, &names, &[vec![5; 9], vec![6; 9]], &master(30)).unwrap();
+        let (m, states) = read(&dir, &names).unwrap();
+        assert_eq!(m.step_index, 30);
+        assert_eq!(states, [vec![5; 9], vec![6; 9]]);
+        let n_state_files = std::fs::read_dir(&cp)
+            .unwrap()
+            .flatten()
+            .filter(|e| e.file_name().to_string_lossy().ends_with(".state"))
+            .count();
+        assert_eq!(n_state_files, 2);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn truncated_or_swapped_state_files_are_refused() {
+        let dir = tmp("damaged");
+        let names = vec!["film_C".to_string(), "film_T".to_string()];
+        write(
+            &dir,
+            &names,
+            &[vec![1, 2, 3, 4], vec![5, 6, 7, 8]],
+            &master(3),
+        )
+        .unwrap();
+        let (m, _) = read(&dir, &names).unwrap();
+        let cp = dir.join("checkpoint");
+        let file = |n: &str| cp.join(state_file(n, m.states_tag.as_deref()));
+        // Swapped: same lengths, other content.
+        let (c, t) = (
+            std::fs::read(file("film_C")).unwrap(),
+            std::fs::read(file("film_T")).unwrap(),
+        );
+        std::fs::write(file("film_C"), &t).unwrap();
+        std::fs::write(file("film_T"), &c).unwrap();
+        let e = read(&dir, &names).unwrap_err();
+        assert!(e.contains("film_C") && e.contains("damaged"), "{e}");
+        // Truncated.
+        std::fs::write(file("film_C"), &c[..2]).unwrap();
+        let e = read(&dir, &names).unwrap_err();
+        assert!(e.contains("2 bytes, expected 4"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn checkpoints_of_earlier_versions_still_read() {
+        // Session 6 layout: <instance>.state, no tag, no checks.
+        let dir = tmp("old");
+        let cp = dir.join("checkpoint");
+        std::fs::create_dir_all(&cp).unwrap();
+        std::fs::write(cp.join("rotor.state"), [9u8; 5]).unwrap();
+        let mut m = master(7);
+        m.refine_level = 2;
+        let mut v = serde_json::to_value(&m).unwrap();
+        let o = v.as_object_mut().unwrap();
+        o.remove("states_tag");
+        o.remove("state_checks");
+        std::fs::write(cp.join("master.json"), v.to_string()).unwrap();
+        let (back, states) = read(&dir, &["rotor".to_string()]).unwrap();
+        assert_eq!(back.step_index, 7);
+        assert_eq!(back.refine_level, 2);
+        assert_eq!(states, [vec![9u8; 5]]);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -62,6 +62,9 @@ pub fn run(
     std::fs::create_dir_all(&cfg.out_dir).map_err(io(&cfg.out_dir))?;
     let used = cfg.out_dir.join("system.toml");
     if !resume {
+        // A fresh run into a reused folder: an old checkpoint there belongs to another run.
+        let cp = cfg.out_dir.join("checkpoint");
+        checkpoint::remove(&cfg.out_dir).map_err(io(&cp))?;
         let text = std::fs::read_to_string(system_path).map_err(io(system_path))?;
         if system_path.canonicalize().ok() != used.canonicalize().ok() {
             std::fs::write(&used, &text).map_err(io(&used))?;
