@@ -112,7 +112,10 @@ impl CsvObserver {
 impl crate::Observer for CsvObserver {
     fn started(&mut self, run: &crate::observer::RunStart<'_>) -> Result<(), String> {
         let w = match run.resumed_from {
-            Some(m) => TimeSeriesWriter::resume(&self.path, m.csv_bytes),
+            Some(m) => {
+                check_resumable(&self.path, m.csv_bytes, m.next_output_index)?;
+                TimeSeriesWriter::resume(&self.path, m.csv_bytes)
+            }
             None => {
                 let columns: Vec<(String, String)> = run
                     .columns
@@ -154,6 +157,45 @@ impl crate::Observer for CsvObserver {
     }
 }
 
+/// A resume cuts the file back to `bytes`: that prefix must be the header and exactly `rows`
+/// whole rows, as the checkpoint recorded them (a truncated, edited or zero-filled file is
+/// refused instead of being continued into a series with holes).
+fn check_resumable(path: &Path, bytes: u64, rows: u64) -> Result<(), String> {
+    let damaged = |what: String| {
+        format!(
+            "{}: {what}; the run folder is damaged, start the run afresh",
+            path.display()
+        )
+    };
+    let len = std::fs::metadata(path)
+        .map_err(|e| format!("{}: {e}", path.display()))?
+        .len();
+    if len < bytes {
+        return Err(damaged(format!(
+            "{len} bytes, but the checkpoint was taken at {bytes}"
+        )));
+    }
+    let mut prefix = vec![0u8; bytes as usize];
+    use std::io::Read;
+    File::open(path)
+        .and_then(|mut f| f.read_exact(&mut prefix))
+        .map_err(|e| format!("{}: {e}", path.display()))?;
+    if prefix.contains(&0) {
+        return Err(damaged("it holds NUL bytes".into()));
+    }
+    if prefix.last() != Some(&b'\n') {
+        return Err(damaged(format!("byte {bytes} does not end a row")));
+    }
+    let lines = prefix.iter().filter(|b| **b == b'\n').count() as u64;
+    if lines != rows + 1 {
+        return Err(damaged(format!(
+            "{} rows before the checkpoint, which recorded {rows}",
+            lines.saturating_sub(1)
+        )));
+    }
+    Ok(())
+}
+
 /// Reads a time series back: (column names, rows of time + values).
 pub fn read(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f64>>)> {
     let text = std::fs::read_to_string(path)?;
@@ -173,6 +215,55 @@ pub fn read(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f64>>)> {
         })
         .collect();
     Ok((header, rows))
+}
+
+#[cfg(test)]
+mod resume_tests {
+    use super::*;
+
+    #[test]
+    fn a_damaged_series_is_not_resumed() {
+        let dir = std::env::temp_dir().join(format!("cosim-ts-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("s.csv");
+        let mut w = TimeSeriesWriter::create(&p, &[("a.x".into(), "m".into())]).unwrap();
+        for k in 0..10 {
+            w.row(k as f64, &[1.0]).unwrap();
+        }
+        w.flush().unwrap();
+        let (bytes, rows) = (w.bytes, 10);
+        drop(w);
+        assert!(check_resumable(&p, bytes, rows).is_ok());
+        // Rows after the checkpoint are fine (the resume cuts them).
+        std::fs::write(
+            &p,
+            [std::fs::read(&p).unwrap(), b"10,1\n".to_vec()].concat(),
+        )
+        .unwrap();
+        assert!(check_resumable(&p, bytes, rows).is_ok());
+        for (what, edit) in [
+            ("truncated", 0usize),
+            ("NUL-filled", 1),
+            ("mid-row offset", 2),
+            ("other row count", 3),
+        ] {
+            let good = std::fs::read(&p).unwrap();
+            let (file, b, r) = match edit {
+                0 => (good[..good.len() / 2].to_vec(), bytes, rows),
+                1 => {
+                    let mut f = good.clone();
+                    f[20..30].fill(0);
+                    (f, bytes, rows)
+                }
+                2 => (good.clone(), bytes - 1, rows),
+                _ => (good.clone(), bytes, rows + 1),
+            };
+            std::fs::write(dir.join("bad.csv"), &file).unwrap();
+            let e = check_resumable(&dir.join("bad.csv"), b, r).unwrap_err();
+            assert!(e.contains("damaged"), "{what}: {e}");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }
 
 #[cfg(test)]
