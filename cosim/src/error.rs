@@ -34,6 +34,8 @@ pub enum RunError {
     System(crate::system::SystemError),
     /// The checkpoint to resume from is missing or unreadable.
     Checkpoint(String),
+    /// A setting of the run itself (`RunConfig`) is unusable.
+    Config(String),
 }
 
 impl std::fmt::Display for RunError {
@@ -41,7 +43,7 @@ impl std::fmt::Display for RunError {
         match self {
             RunError::Io { path, source } => write!(f, "{}: {source}", path.display()),
             RunError::System(e) => write!(f, "{e}"),
-            RunError::Checkpoint(e) => write!(f, "{e}"),
+            RunError::Checkpoint(e) | RunError::Config(e) => write!(f, "{e}"),
         }
     }
 }

@@ -59,6 +59,13 @@ pub fn run(
         let path = path.to_path_buf();
         move |source| RunError::Io { path, source }
     };
+    if let Some(dt) = cfg.checkpoint_every_s {
+        if !(dt.is_finite() && dt > 0.0) {
+            return Err(RunError::Config(format!(
+                "checkpoint interval {dt} s: must be a positive, finite simulated time"
+            )));
+        }
+    }
     std::fs::create_dir_all(&cfg.out_dir).map_err(io(&cfg.out_dir))?;
     let used = cfg.out_dir.join("system.toml");
     if !resume {

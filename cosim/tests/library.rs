@@ -211,6 +211,16 @@ fn a_run_that_cannot_start_is_a_typed_error() {
     assert!(matches!(e, cosim::RunError::Io { .. }), "{e}");
     // A run folder without a checkpoint (a completed run) cannot be resumed.
     let sys = system(&dir);
+    // A checkpoint interval that never checkpoints (before: accepted silently).
+    for dt in [0.0, -1.0, f64::NAN, f64::INFINITY] {
+        let cfg = RunConfig {
+            checkpoint_every_s: Some(dt),
+            ..RunConfig::new(dir.join("never"))
+        };
+        let e = cosim::run(&sys, &cfg, false, log.clone(), &mut []).unwrap_err();
+        assert!(matches!(e, cosim::RunError::Config(_)), "{dt}: {e}");
+        assert!(!dir.join("never").exists(), "nothing written");
+    }
     let done = cosim::run(&sys, &RunConfig::new(&dir), false, log.clone(), &mut []).unwrap();
     assert!(done.completed);
     let e = cosim::run(&sys, &RunConfig::new(&dir), true, log, &mut []).unwrap_err();
