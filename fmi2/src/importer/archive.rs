@@ -19,6 +19,20 @@ pub fn unpack(fmu: &Path) -> Result<PathBuf, ImportError> {
     if dir.exists() {
         std::fs::remove_dir_all(&dir).map_err(|e| err(&e))?;
     }
+    let extracted = extract(&mut zip, &dir, &err);
+    if extracted.is_err() {
+        // A half-unpacked archive does not stay behind in the temporary folder.
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+    extracted.map(|()| dir)
+}
+
+/// Writes every entry of `zip` below `dir`, refusing paths that leave it.
+fn extract(
+    zip: &mut zip::ZipArchive<std::fs::File>,
+    dir: &Path,
+    err: &dyn Fn(&dyn std::fmt::Display) -> ImportError,
+) -> Result<(), ImportError> {
     for i in 0..zip.len() {
         let mut entry = zip.by_index(i).map_err(|e| err(&e))?;
         let rel = entry
@@ -35,5 +49,5 @@ pub fn unpack(fmu: &Path) -> Result<PathBuf, ImportError> {
         let mut f = std::fs::File::create(&out).map_err(|e| err(&e))?;
         std::io::copy(&mut entry, &mut f).map_err(|e| err(&e))?;
     }
-    Ok(dir)
+    Ok(())
 }

@@ -45,6 +45,23 @@ impl Fmu {
         } else {
             (unpack(path)?, true)
         };
+        let opened = Self::open_unpacked(path, &dir);
+        if opened.is_err() && owns_dir {
+            // Nothing of a failed load stays behind in the temporary folder.
+            let _ = std::fs::remove_dir_all(&dir);
+        }
+        let (description, api) = opened?;
+        Ok(Fmu {
+            path: path.to_path_buf(),
+            dir,
+            owns_dir,
+            description,
+            api,
+        })
+    }
+
+    /// Reads the description of an unpacked FMU in `dir` and loads its library.
+    fn open_unpacked(path: &Path, dir: &Path) -> Result<(ModelDescription, Arc<Api>), ImportError> {
         let md_path = dir.join("modelDescription.xml");
         let xml = std::fs::read_to_string(&md_path).map_err(|e| {
             ImportError(format!(
@@ -59,13 +76,7 @@ impl Fmu {
             .join("linux64")
             .join(format!("{}.so", description.model_identifier));
         let api = Arc::new(Api::load(&lib)?);
-        Ok(Fmu {
-            path: path.to_path_buf(),
-            dir,
-            owns_dir,
-            description,
-            api,
-        })
+        Ok((description, api))
     }
 
     /// `file:///…/resources` URI of the unpacked FMU.
