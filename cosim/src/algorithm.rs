@@ -660,11 +660,6 @@ impl CoSim {
         self.t
     }
 
-    /// The configuration the co-simulation was built with.
-    pub fn config(&self) -> &AlgorithmConfig {
-        &self.config
-    }
-
     /// Instance names, in subsystem order.
     pub fn names(&self) -> impl Iterator<Item = &str> {
         self.subs.iter().map(|s| s.name.as_str())
@@ -696,11 +691,5 @@ impl CoSim {
     /// The events since the last call, oldest first.
     pub fn drain_events(&mut self) -> std::vec::Drain<'_, Event> {
         self.events.drain(..)
-    }
-
-    /// Macro steps between saved FMU states when rollback is on (default 1000; smaller values
-    /// make a roll-back replay fewer steps at the cost of more saves).
-    pub fn set_save_every(&mut self, macro_steps: usize) {
-        self.save_every = macro_steps.max(1);
     }
 }

@@ -97,6 +97,16 @@ struct Execution<'a> {
     by_sub: Vec<(usize, Vec<u32>, Vec<usize>)>,
     values: Vec<f64>,
     scratch: Vec<f64>,
+    /// Macro steps taken (from the checkpoint on resume).
+    step_index: u64,
+    /// Wall time of the run before this process (a resumed run's earlier parts) [s].
+    wall_before_s: f64,
+}
+
+/// How the loop ended without an error.
+enum End {
+    Completed,
+    Interrupted,
 }
 
 impl<'a> Execution<'a> {
@@ -119,6 +129,8 @@ impl<'a> Execution<'a> {
             by_sub,
             values: vec![0.0; n],
             scratch: vec![0.0; n],
+            step_index: 0,
+            wall_before_s: 0.0,
         }
     }
 
@@ -144,24 +156,18 @@ impl<'a> Execution<'a> {
     ) -> RunReport {
         let start = Instant::now();
         let mut report = RunReport::default();
-        let mut step_index = 0;
-        let mut wall_before = 0.0;
-        let result = self.run_loop(
-            resumed_from,
-            observers,
-            &mut report,
-            &mut step_index,
-            &mut wall_before,
-            start,
-        );
+        match self.run_loop(resumed_from, observers, start) {
+            Ok(End::Completed) => report.completed = true,
+            Ok(End::Interrupted) => report.interrupted = true,
+            Err(e) => report.error = Some(e),
+        }
         let cosim = &self.built.cosim;
-        report.error = result.err();
         report.t_end_s = cosim.time_s();
-        report.macro_steps = step_index;
+        report.macro_steps = self.step_index;
         report.retries = cosim.macro_steps().1;
         report.control = cosim.control_stats();
         report.counters = cosim.counters();
-        report.wall_time_s = wall_before + start.elapsed().as_secs_f64();
+        report.wall_time_s = self.wall_before_s + start.elapsed().as_secs_f64();
         report.wall_per_subsystem_s = cosim
             .wall_in_fmus()
             .into_iter()
@@ -192,11 +198,8 @@ impl<'a> Execution<'a> {
         &mut self,
         resumed_from: Option<(MasterState, Vec<Vec<u8>>)>,
         observers: &mut [&mut dyn Observer],
-        report: &mut RunReport,
-        step_index: &mut u64,
-        wall_before: &mut f64,
         start: Instant,
-    ) -> Result<(), String> {
+    ) -> Result<End, String> {
         let h = self.built.macro_step_s;
         let stop = self.built.stop_time_s;
         // A macro step that does not divide the stop time: the last step is shorter (it ends at
@@ -210,9 +213,9 @@ impl<'a> Execution<'a> {
                 .cosim
                 .restore_checkpoint(m.algorithm_state(), states)
                 .map_err(|e| e.to_string())?;
-            *step_index = m.step_index;
+            self.step_index = m.step_index;
             next_output = m.next_output_index;
-            *wall_before = m.wall_before_s;
+            self.wall_before_s = m.wall_before_s;
         }
         let run_start = RunStart {
             columns: &self.built.recorded,
@@ -236,17 +239,11 @@ impl<'a> Execution<'a> {
                 }
                 next_output += 1;
             }
-            for e in self.built.cosim.drain_events().collect::<Vec<_>>() {
-                for o in observers.iter_mut() {
-                    o.event(&e);
-                }
-            }
             for o in observers.iter_mut() {
                 o.macro_point(&self.built.cosim, stop);
             }
-            if *step_index >= n_steps {
-                report.completed = true;
-                return Ok(());
+            if self.step_index >= n_steps {
+                return Ok(End::Completed);
             }
             let halt = cfg.halt_at_s.is_some_and(|th| t >= th - 1e-9 * h);
             let checkpoint_due = next_checkpoint.is_some_and(|tc| t >= tc - 1e-9 * h);
@@ -255,9 +252,9 @@ impl<'a> Execution<'a> {
                 let (state, states) = self.built.cosim.checkpoint().map_err(|e| e.to_string())?;
                 let mut m = MasterState::new(
                     &state,
-                    *step_index,
+                    self.step_index,
                     next_output,
-                    *wall_before + start.elapsed().as_secs_f64(),
+                    self.wall_before_s + start.elapsed().as_secs_f64(),
                 );
                 for o in observers.iter_mut() {
                     o.checkpoint(&mut m)?;
@@ -269,23 +266,23 @@ impl<'a> Execution<'a> {
                 }
             }
             if stopping {
-                report.interrupted = true;
-                return Ok(());
+                return Ok(End::Interrupted);
             }
             // Step to the grid point (k+1) h exactly, so the time does not drift over 10^5 steps;
             // the last one ends at the stop time if the grid would pass it.
-            let mut target = (*step_index + 1) as f64 * h;
+            let mut target = (self.step_index + 1) as f64 * h;
             if target > stop + 1e-9 * h {
                 target = stop;
             }
             let r = self.built.cosim.step(target - t);
-            for e in self.built.cosim.drain_events().collect::<Vec<_>>() {
+            // Events first: a roll-back the step made is reported also when the step then failed.
+            for e in self.built.cosim.drain_events() {
                 for o in observers.iter_mut() {
                     o.event(&e);
                 }
             }
             r.map_err(|e| e.to_string())?;
-            *step_index += 1;
+            self.step_index += 1;
         }
     }
 }

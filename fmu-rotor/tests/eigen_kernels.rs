@@ -3,22 +3,8 @@
 //! on seeded random matrices, conjugate-pair structure, normalization, known spectra).
 use fmu_rotor::eigen::{self, C64};
 
-/// A tiny 64-bit LCG (Knuth's MMIX constants): reproducible inputs without a dev-dependency.
-struct Lcg(u64);
-
-impl Lcg {
-    /// Uniform in [-1, 1).
-    fn next(&mut self) -> f64 {
-        self.0 = self
-            .0
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        (self.0 >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-    }
-    fn vec(&mut self, n: usize) -> Vec<f64> {
-        (0..n).map(|_| self.next()).collect()
-    }
-}
+mod common;
+use common::Lcg;
 
 const EPS: f64 = f64::EPSILON;
 

@@ -173,7 +173,7 @@ impl Design {
             None => format!("[bearing] {key}"),
         };
         for (key, v) in t.iter().filter(|(_, v)| !v.is_table()) {
-            let text = value_text(v).ok_or_else(|| {
+            let text = crate::fmu_params::toml_value_text(v).ok_or_else(|| {
                 format!(
                     "{}: expected a number, a \"number unit\" string or a boolean",
                     at(key)
@@ -202,7 +202,7 @@ impl Design {
     fn rotor(&mut self, t: &toml::Table) -> Result<(), String> {
         for (key, v) in t {
             let at = format!("[rotor] {key}");
-            let text = value_text(v).ok_or_else(|| {
+            let text = crate::fmu_params::toml_value_text(v).ok_or_else(|| {
                 format!("{at}: expected a number, a \"number unit\" string or a boolean")
             })?;
             let per_bearing = ["c_C", "c_T", "d_C", "d_T", "m_R_C", "m_R_T"];
@@ -258,17 +258,6 @@ fn covers(flag: &str, entry: &str) -> bool {
     name(flag) == name(entry)
         && (prefix(flag) == prefix(entry)
             || (prefix(flag) == "film" && prefix(entry).starts_with("film_")))
-}
-
-/// A TOML value as the text `FmuParameter::parse` reads.
-fn value_text(v: &toml::Value) -> Option<String> {
-    match v {
-        toml::Value::String(s) => Some(s.clone()),
-        toml::Value::Float(f) => Some(format!("{f:?}")),
-        toml::Value::Integer(i) => Some(i.to_string()),
-        toml::Value::Boolean(b) => Some(b.to_string()),
-        _ => None,
-    }
 }
 
 #[cfg(test)]

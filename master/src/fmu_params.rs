@@ -8,6 +8,19 @@ use fmi2::{Causality, Model, ModelInfo, Store, VarType};
 use fmu_airfilm::shell::AirFilmFmu;
 use fmu_rotor::shell::RotorFmu;
 
+/// A TOML value (design files, system files) as the value text `FmuParameter::parse` reads:
+/// strings as they are ("20 um"), floats in Rust's exact round-trip form, integers and booleans
+/// as written; None for arrays and tables. (Study keys keep their own text form: it names runs.)
+pub fn toml_value_text(v: &toml::Value) -> Option<String> {
+    match v {
+        toml::Value::String(s) => Some(s.clone()),
+        toml::Value::Float(f) => Some(format!("{f:?}")),
+        toml::Value::Integer(i) => Some(i.to_string()),
+        toml::Value::Boolean(b) => Some(b.to_string()),
+        _ => None,
+    }
+}
+
 /// Which FMU instances of a run-up a parameter goes to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Target {

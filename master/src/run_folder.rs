@@ -21,8 +21,12 @@ pub fn bores_of_system(system: &Path) -> Result<Option<[Bore; 2]>, String> {
         let literals: Vec<(String, String)> = entry
             .parameters
             .iter()
-            .map(|(name, value)| (name.clone(), literal(value.get_ref())))
-            .collect();
+            .map(|(name, value)| {
+                let text = crate::fmu_params::toml_value_text(value.get_ref())
+                    .ok_or_else(|| format!("{}: {inst}.{name}: not a value", system.display()))?;
+                Ok((name.clone(), text))
+            })
+            .collect::<Result<_, String>>()?;
         let store = crate::fmu_params::store_for(inst, &literals)
             .map_err(|e| format!("{}: {inst}: {e}", system.display()))?;
         bores.push(fmu_airfilm::shell::params_from(&store).bore);
@@ -33,16 +37,6 @@ pub fn bores_of_system(system: &Path) -> Result<Option<[Bore; 2]>, String> {
 /// The bores of the run folder `dir` (its `system.toml`).
 pub fn bores_of_run(dir: &Path) -> Result<Option<[Bore; 2]>, String> {
     bores_of_system(&dir.join("system.toml"))
-}
-
-/// A system file's parameter value as the text `fmu_params` parses ("number unit", a number,
-/// an integer or a boolean; floats exactly, in Rust's round-trip form).
-fn literal(v: &toml::Value) -> String {
-    match v {
-        toml::Value::String(s) => s.clone(),
-        toml::Value::Float(f) => format!("{f:?}"),
-        other => other.to_string(),
-    }
 }
 
 #[cfg(test)]

@@ -114,6 +114,8 @@ pub struct Study {
     pub runs: Vec<RunSpec>,
 }
 
+/// A study value's text: also the run names' spelling (floats in Display form, "0.00001"), so
+/// it stays as it is rather than `fmu_params::toml_value_text` (which writes "1e-5").
 fn value_text(v: &toml::Value) -> Option<String> {
     match v {
         toml::Value::Integer(i) => Some(i.to_string()),
