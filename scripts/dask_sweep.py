@@ -51,7 +51,8 @@ def run_one(airring: str, out: str, run: dict, fmu_dir: str | None, cwd: str | N
         summary_path.unlink()
     meta = {"name": run["name"], "index": run["index"], "args": run["args"]}
     (run_dir / "sweep_run.json").write_text(json.dumps(meta, indent=2))
-    cmd = [airring, *run["argv"], "--out", str(run_dir), "--quiet"]
+    # The sweep owns its run folders: a failed or stale run there is replaced.
+    cmd = [airring, *run["argv"], "--out", str(run_dir), "--quiet", "--overwrite"]
     if fmu_dir and "fmu_dir" not in run["args"]:
         cmd += ["--fmu-dir", fmu_dir]
     start = time.time()

@@ -151,6 +151,43 @@ impl Bore {
         if self.dh_m < 0.0 {
             return bad("dH", self.dh_m, "must be >= 0");
         }
+        // Sane bounds of a gas bearing, far outside any design but inside what the thin-film
+        // model and f64 arithmetic carry (r = 1e300 m overflows the force integrals).
+        for (name, v, lo, hi, what) in [
+            (
+                "r",
+                self.r_m,
+                1e-4,
+                10.0,
+                "must lie between 0.1 mm and 10 m",
+            ),
+            (
+                "b",
+                self.b_m,
+                1e-4,
+                10.0,
+                "must lie between 0.1 mm and 10 m",
+            ),
+            (
+                "C",
+                self.c_m,
+                1e-8,
+                1e-2,
+                "must lie between 10 nm and 10 mm",
+            ),
+            ("dH", self.dh_m, 0.0, 1e-2, "must lie between 0 and 10 mm"),
+        ] {
+            if !(lo..=hi).contains(&v) {
+                return bad(name, v, what);
+            }
+        }
+        if self.c_m > 0.1 * self.r_m {
+            return bad(
+                "C",
+                self.c_m,
+                "must be at most a tenth of the radius r (a thin film: Reynolds' equation)",
+            );
+        }
         if self.plain_bore {
             if self.dh_m != 0.0 {
                 return bad("dH", self.dh_m, "a plain bore has no step: dH must be 0");

@@ -19,7 +19,7 @@
 //! force (stiffness ~1e10 N/m against a ring of 50 g) cannot be coupled explicitly at 20 us, but
 //! is at ~1 us; steps without contact keep the nominal macro step.
 
-use crate::error::StepError;
+use crate::error::{RestoreError, StepError};
 use crate::parallel::StepPool;
 use crate::polynomial::{taylor_derivatives, taylor_value};
 use crate::step_control::{
@@ -633,12 +633,64 @@ impl CoSim {
         Ok((state, states))
     }
 
-    /// Continues from a [`CoSim::checkpoint`]: restores the FMU states and the algorithm's state.
+    /// Why `state` (read back from a checkpoint) cannot be this co-simulation's state: the
+    /// subsystem count, each coupling history's length (1 to 3 points), its vectors' length, its
+    /// times (finite, increasing, the newest at `t_s`), its values (finite) and the refinement
+    /// level must all be what a checkpoint of this system holds.
+    pub fn check_state(&self, state: &AlgorithmState, n_fmu_states: usize) -> Result<(), String> {
+        let t = state.t_s;
+        if !(t.is_finite() && t >= 0.0) {
+            return Err(format!("time {t} s is not a time of a run"));
+        }
+        if state.histories.len() != self.subs.len() || n_fmu_states != self.subs.len() {
+            return Err(format!(
+                "{} coupling histories and {n_fmu_states} FMU states for {} subsystems",
+                state.histories.len(),
+                self.subs.len()
+            ));
+        }
+        if state.refine_level > MAX_HALVINGS {
+            return Err(format!(
+                "refinement level {} (at most {MAX_HALVINGS})",
+                state.refine_level
+            ));
+        }
+        for (s, h) in self.subs.iter().zip(&state.histories) {
+            let bad = |what: String| Err(format!("coupling history of {}: {what}", s.name));
+            if h.is_empty() || h.len() > 3 {
+                return bad(format!("{} points (1 to 3 expected)", h.len()));
+            }
+            if let Some((_, v)) = h.iter().find(|p| p.1.len() != s.coupling_vrs.len()) {
+                return bad(format!(
+                    "{} values per point ({} expected)",
+                    v.len(),
+                    s.coupling_vrs.len()
+                ));
+            }
+            if h.iter()
+                .any(|p| !p.0.is_finite() || p.1.iter().any(|x| !x.is_finite()))
+            {
+                return bad("a time or value is not finite".into());
+            }
+            if h.iter().zip(h.iter().skip(1)).any(|(a, b)| a.0 >= b.0) {
+                return bad("its times do not increase".into());
+            }
+            if h.back().map(|p| p.0.to_bits()) != Some(t.to_bits()) {
+                return bad(format!("its newest point is not at t = {t} s"));
+            }
+        }
+        Ok(())
+    }
+
+    /// Continues from a [`CoSim::checkpoint`]: restores the FMU states and the algorithm's state
+    /// (after [`CoSim::check_state`]; a state that does not fit changes nothing).
     pub fn restore_checkpoint(
         &mut self,
         state: AlgorithmState,
         fmu_states: &[Vec<u8>],
-    ) -> Result<(), StepError> {
+    ) -> Result<(), RestoreError> {
+        self.check_state(&state, fmu_states.len())
+            .map_err(RestoreError::Mismatch)?;
         let t = state.t_s;
         for ((s, bytes), h) in self.subs.iter_mut().zip(fmu_states).zip(state.histories) {
             let err = |error| StepError {

@@ -39,6 +39,66 @@ pub struct MasterState {
     /// Per instance: its state file's check; empty in older checkpoints (then unchecked).
     #[serde(default)]
     pub state_checks: Vec<StateCheck>,
+    /// FNV-1a 64 of timeseries.csv's first `csv_bytes` bytes (None in older checkpoints, or
+    /// when no series is written).
+    #[serde(default)]
+    pub csv_check: Option<u64>,
+    /// Which run this checkpoint belongs to (None in older checkpoints: then unchecked).
+    #[serde(default)]
+    pub identity: Option<RunIdentity>,
+}
+
+/// What makes a run itself: a resume continues a checkpoint only into the run that wrote it.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct RunIdentity {
+    /// FNV-1a 64 of the run folder's system.toml, as the run started from it.
+    pub system_check: u64,
+    /// When the run started from t = 0 [ms since the Unix epoch]; kept through resumes.
+    pub started_unix_ms: u64,
+    /// (instance, GUID of its FMU), in subsystem order.
+    pub guids: Vec<(String, String)>,
+}
+
+impl RunIdentity {
+    /// A run starting now from `system_text` with these (instance, GUID) pairs.
+    pub fn new(system_text: &[u8], guids: Vec<(String, String)>) -> Self {
+        let started_unix_ms = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_millis() as u64);
+        RunIdentity {
+            system_check: checksum(system_text),
+            started_unix_ms,
+            guids,
+        }
+    }
+
+    /// Why `self` (from the checkpoint) is not the run `now` would continue (None: it is).
+    pub fn mismatch(
+        &self,
+        now_system_text: &[u8],
+        now_guids: &[(String, String)],
+    ) -> Option<String> {
+        if checksum(now_system_text) != self.system_check {
+            return Some(
+                "system.toml was changed after the checkpoint was written (its checksum differs)"
+                    .into(),
+            );
+        }
+        if self.guids != now_guids {
+            let show = |g: &[(String, String)]| {
+                g.iter()
+                    .map(|(i, g)| format!("{i}={g}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            return Some(format!(
+                "the FMUs are not the ones the checkpoint was written with (now {}; then {})",
+                show(now_guids),
+                show(&self.guids)
+            ));
+        }
+        None
+    }
 }
 
 pub const FORMAT: u32 = 1;
@@ -63,6 +123,8 @@ impl MasterState {
             refine_level: state.refine_level,
             states_tag: None,
             state_checks: vec![],
+            csv_check: None,
+            identity: None,
         }
     }
 
@@ -94,10 +156,18 @@ pub fn decode_history(h: &[(u64, Vec<u64>)]) -> VecDeque<(f64, Vec<f64>)> {
 }
 
 /// FNV-1a 64 of `bytes`: detects a truncated, corrupted or swapped state file (not an attack).
-fn checksum(bytes: &[u8]) -> u64 {
-    bytes.iter().fold(0xcbf2_9ce4_8422_2325, |h, b| {
-        (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3)
-    })
+pub fn checksum(bytes: &[u8]) -> u64 {
+    checksum_continue(FNV_START, bytes)
+}
+
+/// The FNV-1a 64 state before any byte.
+pub const FNV_START: u64 = 0xcbf2_9ce4_8422_2325;
+
+/// FNV-1a 64 continued over `bytes` from the state `h` (a checksum kept while a file grows).
+pub fn checksum_continue(h: u64, bytes: &[u8]) -> u64 {
+    bytes
+        .iter()
+        .fold(h, |h, b| (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3))
 }
 
 /// Writes `bytes` to a temporary file, syncs it, renames it to `path` and syncs the folder, so

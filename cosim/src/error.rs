@@ -22,6 +22,32 @@ impl std::fmt::Display for StepError {
 
 impl std::error::Error for StepError {}
 
+/// Why a checkpoint could not be restored.
+#[derive(Debug)]
+pub enum RestoreError {
+    /// The checkpoint's algorithm state does not fit this co-simulation.
+    Mismatch(String),
+    /// An FMU refused its saved state.
+    Fmu(StepError),
+}
+
+impl std::fmt::Display for RestoreError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RestoreError::Mismatch(e) => write!(f, "the checkpoint does not fit this system: {e}"),
+            RestoreError::Fmu(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for RestoreError {}
+
+impl From<StepError> for RestoreError {
+    fn from(e: StepError) -> Self {
+        RestoreError::Fmu(e)
+    }
+}
+
 /// Why a run could not start (a run that starts reports its end in `RunReport`).
 #[derive(Debug)]
 pub enum RunError {
@@ -36,6 +62,8 @@ pub enum RunError {
     Checkpoint(String),
     /// A setting of the run itself (`RunConfig`) is unusable.
     Config(String),
+    /// An observer refused the run before it started (its reason).
+    Observer(String),
 }
 
 impl std::fmt::Display for RunError {
@@ -43,7 +71,9 @@ impl std::fmt::Display for RunError {
         match self {
             RunError::Io { path, source } => write!(f, "{}: {source}", path.display()),
             RunError::System(e) => write!(f, "{e}"),
-            RunError::Checkpoint(e) | RunError::Config(e) => write!(f, "{e}"),
+            RunError::Checkpoint(e) | RunError::Config(e) | RunError::Observer(e) => {
+                write!(f, "{e}")
+            }
         }
     }
 }

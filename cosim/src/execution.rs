@@ -2,7 +2,7 @@
 //! flag), checkpoints and resume. What is done with the samples (files, progress, analysis) is up
 //! to the [`Observer`]s; the loop prints nothing.
 
-use crate::checkpoint::{self, MasterState};
+use crate::checkpoint::{self, MasterState, RunIdentity};
 use crate::error::RunError;
 use crate::observer::{Observer, RunStart};
 use crate::report::RunReport;
@@ -66,26 +66,104 @@ pub fn run(
             )));
         }
     }
-    std::fs::create_dir_all(&cfg.out_dir).map_err(io(&cfg.out_dir))?;
     let used = cfg.out_dir.join("system.toml");
+    let source = if resume { used.as_path() } else { system_path };
+    let text = std::fs::read(source).map_err(io(source))?;
+    let sys = System::load(source)?;
+    let built = build(&sys, log)?;
+    let (resumed_from, identity) = if resume {
+        let (m, states) = resumable_checkpoint(&cfg.out_dir, &built, &text)?;
+        let identity = m
+            .identity
+            .clone()
+            .unwrap_or_else(|| RunIdentity::new(&text, built.guids.clone()));
+        (Some((m, states)), identity)
+    } else {
+        (None, RunIdentity::new(&text, built.guids.clone()))
+    };
+    std::fs::create_dir_all(&cfg.out_dir).map_err(io(&cfg.out_dir))?;
+    let exec = Execution::new(built, cfg, identity);
+    exec.start(resumed_from.as_ref().map(|(m, _)| m), observers)
+        .map_err(RunError::Observer)?;
     if !resume {
-        // A fresh run into a reused folder: an old checkpoint there belongs to another run.
+        // Only now, with the system built and every observer started, is the folder this run's:
+        // an old checkpoint there belongs to another run, and the system file is copied in.
         let cp = cfg.out_dir.join("checkpoint");
         checkpoint::remove(&cfg.out_dir).map_err(io(&cp))?;
-        let text = std::fs::read_to_string(system_path).map_err(io(system_path))?;
         if system_path.canonicalize().ok() != used.canonicalize().ok() {
             std::fs::write(&used, &text).map_err(io(&used))?;
         }
     }
-    let sys = System::load(if resume { &used } else { system_path })?;
-    let built = build(&sys, log)?;
+    Ok(exec.run(resumed_from, observers))
+}
+
+/// The checkpoint in `dir`, checked against the run it would continue: the same system file
+/// and FMUs (its identity), an algorithm state that fits the built system, and a time, step
+/// index and output index that belong together.
+fn resumable_checkpoint(
+    dir: &Path,
+    built: &Built,
+    system_text: &[u8],
+) -> Result<(MasterState, Vec<Vec<u8>>), RunError> {
     let names: Vec<String> = built.cosim.names().map(str::to_string).collect();
-    let resumed_from = if resume {
-        Some(checkpoint::read(&cfg.out_dir, &names).map_err(RunError::Checkpoint)?)
-    } else {
-        None
+    let (m, states) = checkpoint::read(dir, &names).map_err(RunError::Checkpoint)?;
+    let refuse = |why: String| {
+        RunError::Checkpoint(format!(
+            "{}: {why}; it cannot be continued (start the run afresh)",
+            dir.join("checkpoint").display()
+        ))
     };
-    Ok(Execution::new(built, cfg).run(resumed_from, observers))
+    if let Some(why) = m
+        .identity
+        .as_ref()
+        .and_then(|id| id.mismatch(system_text, &built.guids))
+    {
+        return Err(refuse(why));
+    }
+    let state = m.algorithm_state();
+    built
+        .cosim
+        .check_state(&state, states.len())
+        .map_err(|e| refuse(format!("master.json: {e}")))?;
+    let h = built.macro_step_s;
+    let n_steps = step_count(built.stop_time_s, h);
+    // (The time is a sum of the step's sub-steps: on the grid to rounding, not bit for bit.)
+    let off_grid = (state.t_s - grid_time(m.step_index, h, built.stop_time_s)).abs() > 1e-6 * h;
+    if m.step_index > n_steps || off_grid {
+        return Err(refuse(format!(
+            "master.json: time {} s is not macro step {} of this system",
+            state.t_s, m.step_index
+        )));
+    }
+    let eps = 1e-9 * h;
+    let interval = built.output_interval_s;
+    let next_ok = output_time(m.next_output_index, interval) > state.t_s + eps
+        && (m.next_output_index == 0
+            || output_time(m.next_output_index - 1, interval) <= state.t_s + eps);
+    if !next_ok {
+        return Err(refuse(format!(
+            "master.json: output sample {} does not follow time {} s",
+            m.next_output_index, state.t_s
+        )));
+    }
+    Ok((m, states))
+}
+
+/// Macro steps of a run to `stop` with step `h`: a remainder below 1e-6 of a step is rounding,
+/// not a step; a larger one is a last, shorter step.
+fn step_count(stop: f64, h: f64) -> u64 {
+    (stop / h - 1e-6).ceil().max(1.0) as u64
+}
+
+/// The time after `k` macro steps: the grid point k h exactly (no drift over 10^5 steps), or the
+/// stop time if the grid would pass it.
+fn grid_time(k: u64, h: f64, stop: f64) -> f64 {
+    let t = k as f64 * h;
+    if t > stop + 1e-9 * h {
+        stop
+    } else {
+        t
+    }
 }
 
 /// A built co-simulation on its way to the stop time.
@@ -101,6 +179,8 @@ struct Execution<'a> {
     step_index: u64,
     /// Wall time of the run before this process (a resumed run's earlier parts) [s].
     wall_before_s: f64,
+    /// Written into every checkpoint.
+    identity: RunIdentity,
 }
 
 /// How the loop ended without an error.
@@ -110,7 +190,7 @@ enum End {
 }
 
 impl<'a> Execution<'a> {
-    fn new(built: Built, cfg: &'a RunConfig) -> Self {
+    fn new(built: Built, cfg: &'a RunConfig, identity: RunIdentity) -> Self {
         let mut by_sub: Vec<(usize, Vec<u32>, Vec<usize>)> = vec![];
         for (col, r) in built.recorded.iter().enumerate() {
             match by_sub.iter_mut().find(|g| g.0 == r.subsystem) {
@@ -131,7 +211,26 @@ impl<'a> Execution<'a> {
             scratch: vec![0.0; n],
             step_index: 0,
             wall_before_s: 0.0,
+            identity,
         }
+    }
+
+    /// Tells every observer the run starts (before anything in the run folder is replaced).
+    fn start(
+        &self,
+        resumed_from: Option<&MasterState>,
+        observers: &mut [&mut dyn Observer],
+    ) -> Result<(), String> {
+        let run_start = RunStart {
+            columns: &self.built.recorded,
+            resumed_from,
+            stop_time_s: self.built.stop_time_s,
+            output_interval_s: self.built.output_interval_s,
+        };
+        for o in observers.iter_mut() {
+            o.started(&run_start)?;
+        }
+        Ok(())
     }
 
     /// Reads the recorded variables into `values`.
@@ -202,10 +301,7 @@ impl<'a> Execution<'a> {
     ) -> Result<End, String> {
         let h = self.built.macro_step_s;
         let stop = self.built.stop_time_s;
-        // A macro step that does not divide the stop time: the last step is shorter (it ends at
-        // the stop time, which an FMU must not be stepped past).
-        // (A remainder below 1e-6 of a macro step is rounding, not a step.)
-        let n_steps = (stop / h - 1e-6).ceil().max(1.0) as u64;
+        let n_steps = step_count(stop, h);
         let interval = self.built.output_interval_s;
         let mut next_output = 0;
         if let Some((m, states)) = &resumed_from {
@@ -216,14 +312,6 @@ impl<'a> Execution<'a> {
             self.step_index = m.step_index;
             next_output = m.next_output_index;
             self.wall_before_s = m.wall_before_s;
-        }
-        let run_start = RunStart {
-            columns: &self.built.recorded,
-            resumed_from: resumed_from.as_ref().map(|(m, _)| m),
-            stop_time_s: stop,
-        };
-        for o in observers.iter_mut() {
-            o.started(&run_start)?;
         }
         let cfg = self.cfg;
         let mut next_checkpoint = cfg
@@ -256,6 +344,7 @@ impl<'a> Execution<'a> {
                     next_output,
                     self.wall_before_s + start.elapsed().as_secs_f64(),
                 );
+                m.identity = Some(self.identity.clone());
                 for o in observers.iter_mut() {
                     o.checkpoint(&mut m)?;
                 }
@@ -268,12 +357,7 @@ impl<'a> Execution<'a> {
             if stopping {
                 return Ok(End::Interrupted);
             }
-            // Step to the grid point (k+1) h exactly, so the time does not drift over 10^5 steps;
-            // the last one ends at the stop time if the grid would pass it.
-            let mut target = (self.step_index + 1) as f64 * h;
-            if target > stop + 1e-9 * h {
-                target = stop;
-            }
+            let target = grid_time(self.step_index + 1, h, stop);
             let r = self.built.cosim.step(target - t);
             // Events first: a roll-back the step made is reported also when the step then failed.
             for e in self.built.cosim.drain_events() {

@@ -32,7 +32,7 @@ pub mod system;
 pub mod timeseries;
 
 pub use algorithm::{AlgorithmConfig, CoSim, Event, Scheme};
-pub use error::{RunError, StepError};
+pub use error::{RestoreError, RunError, StepError};
 pub use execution::{run, RunConfig};
 pub use observer::{Observer, RunStart};
 pub use report::RunReport;

@@ -15,6 +15,8 @@ pub struct RunStart<'a> {
     /// The checkpoint the run resumes from (None: a fresh run from t = 0).
     pub resumed_from: Option<&'a MasterState>,
     pub stop_time_s: f64,
+    /// Simulated time between output samples [s].
+    pub output_interval_s: f64,
 }
 
 /// A watcher of a run. Errors are strings naming what failed; they end the run as failed.

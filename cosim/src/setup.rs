@@ -22,6 +22,8 @@ pub struct Built {
     pub output_interval_s: f64,
     /// The variables the system file asks to record, in column order.
     pub recorded: Vec<Recorded>,
+    /// (instance, GUID of its FMU), in subsystem order: part of a run's identity.
+    pub guids: Vec<(String, String)>,
 }
 
 /// A recorded variable: one column of the time series.
@@ -362,6 +364,11 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
         parallel: alg.parallel,
         control,
     };
+    let guids = subs
+        .iter()
+        .zip(&fmus)
+        .map(|(s, f)| (s.name.clone(), f.description.guid.clone()))
+        .collect();
     let cosim = CoSim::initialize(subs, order, config, fmus).map_err(|e| {
         SystemError(format!(
             "{}: initialization failed: {e}",
@@ -374,5 +381,6 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
         stop_time_s,
         output_interval_s,
         recorded,
+        guids,
     })
 }

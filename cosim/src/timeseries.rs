@@ -11,6 +11,8 @@ pub struct TimeSeriesWriter {
     last_flush: Instant,
     /// Bytes written so far (the checkpoint records it to truncate on resume).
     pub bytes: u64,
+    /// FNV-1a 64 of those bytes (the checkpoint records it: a resume checks the prefix it keeps).
+    pub check: u64,
     /// One row's text, reused (no allocation per value or row).
     line: String,
 }
@@ -24,6 +26,7 @@ impl TimeSeriesWriter {
             out: BufWriter::new(File::create(path)?),
             last_flush: Instant::now(),
             bytes: 0,
+            check: crate::checkpoint::FNV_START,
             line: String::new(),
         };
         let mut header = String::from("time [s]");
@@ -39,8 +42,9 @@ impl TimeSeriesWriter {
         Ok(w)
     }
 
-    /// Reopens a file for appending after `bytes` (everything later, from after the checkpoint, is cut).
-    pub fn resume(path: &Path, bytes: u64) -> std::io::Result<Self> {
+    /// Reopens a file for appending after `bytes` whose checksum is `check` (everything later,
+    /// from after the checkpoint, is cut).
+    pub fn resume(path: &Path, bytes: u64, check: u64) -> std::io::Result<Self> {
         let f = OpenOptions::new().write(true).open(path)?;
         f.set_len(bytes)?;
         let mut f = f;
@@ -49,6 +53,7 @@ impl TimeSeriesWriter {
             out: BufWriter::new(f),
             last_flush: Instant::now(),
             bytes,
+            check,
             line: String::new(),
         })
     }
@@ -56,6 +61,7 @@ impl TimeSeriesWriter {
     fn write_raw(&mut self, b: &[u8]) -> std::io::Result<()> {
         self.out.write_all(b)?;
         self.bytes += b.len() as u64;
+        self.check = crate::checkpoint::checksum_continue(self.check, b);
         Ok(())
     }
 
@@ -113,8 +119,9 @@ impl crate::Observer for CsvObserver {
     fn started(&mut self, run: &crate::observer::RunStart<'_>) -> Result<(), String> {
         let w = match run.resumed_from {
             Some(m) => {
-                check_resumable(&self.path, m.csv_bytes, m.next_output_index)?;
-                TimeSeriesWriter::resume(&self.path, m.csv_bytes)
+                let check =
+                    check_resumable(&self.path, m.csv_bytes, m.next_output_index, m.csv_check)?;
+                TimeSeriesWriter::resume(&self.path, m.csv_bytes, check)
             }
             None => {
                 let columns: Vec<(String, String)> = run
@@ -141,6 +148,7 @@ impl crate::Observer for CsvObserver {
         let w = self.writer()?;
         w.flush().map_err(|e| format!("{path}: {e}"))?;
         state.csv_bytes = w.bytes;
+        state.csv_check = Some(w.check);
         Ok(())
     }
 
@@ -158,9 +166,10 @@ impl crate::Observer for CsvObserver {
 }
 
 /// A resume cuts the file back to `bytes`: that prefix must be the header and exactly `rows`
-/// whole rows, as the checkpoint recorded them (a truncated, edited or zero-filled file is
-/// refused instead of being continued into a series with holes).
-fn check_resumable(path: &Path, bytes: u64, rows: u64) -> Result<(), String> {
+/// whole rows with the checksum `check` the checkpoint recorded (None: unchecked, older
+/// checkpoints), so a truncated, edited or zero-filled file is refused instead of being continued
+/// into a series with holes. Returns the prefix's checksum.
+fn check_resumable(path: &Path, bytes: u64, rows: u64, check: Option<u64>) -> Result<u64, String> {
     let damaged = |what: String| {
         format!(
             "{}: {what}; the run folder is damaged, start the run afresh",
@@ -193,7 +202,13 @@ fn check_resumable(path: &Path, bytes: u64, rows: u64) -> Result<(), String> {
             lines.saturating_sub(1)
         )));
     }
-    Ok(())
+    let sum = crate::checkpoint::checksum(&prefix);
+    if check.is_some_and(|c| c != sum) {
+        return Err(damaged(format!(
+            "its first {bytes} bytes are not the ones the checkpoint recorded (checksum differs)"
+        )));
+    }
+    Ok(sum)
 }
 
 /// Reads a time series back: (column names, rows of time + values).
@@ -231,21 +246,24 @@ mod resume_tests {
             w.row(k as f64, &[1.0]).unwrap();
         }
         w.flush().unwrap();
-        let (bytes, rows) = (w.bytes, 10);
+        let (bytes, rows, check) = (w.bytes, 10, w.check);
         drop(w);
-        assert!(check_resumable(&p, bytes, rows).is_ok());
+        assert_eq!(check_resumable(&p, bytes, rows, Some(check)), Ok(check));
+        // (Checkpoints of earlier versions carry no checksum.)
+        assert_eq!(check_resumable(&p, bytes, rows, None), Ok(check));
         // Rows after the checkpoint are fine (the resume cuts them).
         std::fs::write(
             &p,
             [std::fs::read(&p).unwrap(), b"10,1\n".to_vec()].concat(),
         )
         .unwrap();
-        assert!(check_resumable(&p, bytes, rows).is_ok());
+        assert!(check_resumable(&p, bytes, rows, Some(check)).is_ok());
         for (what, edit) in [
             ("truncated", 0usize),
             ("NUL-filled", 1),
             ("mid-row offset", 2),
             ("other row count", 3),
+            ("a digit edited", 4),
         ] {
             let good = std::fs::read(&p).unwrap();
             let (file, b, r) = match edit {
@@ -256,10 +274,17 @@ mod resume_tests {
                     (f, bytes, rows)
                 }
                 2 => (good.clone(), bytes - 1, rows),
-                _ => (good.clone(), bytes, rows + 1),
+                3 => (good.clone(), bytes, rows + 1),
+                _ => {
+                    // Same length, same rows, one value changed: only the checksum sees it.
+                    let mut f = good.clone();
+                    let k = f.len() / 2 + f[f.len() / 2..].iter().position(|c| *c == b'1').unwrap();
+                    f[k] = b'2';
+                    (f, bytes, rows)
+                }
             };
             std::fs::write(dir.join("bad.csv"), &file).unwrap();
-            let e = check_resumable(&dir.join("bad.csv"), b, r).unwrap_err();
+            let e = check_resumable(&dir.join("bad.csv"), b, r, Some(check)).unwrap_err();
             assert!(e.contains("damaged"), "{what}: {e}");
         }
         let _ = std::fs::remove_dir_all(&dir);

@@ -298,3 +298,154 @@ fn time_grids_no_run_can_cover_are_refused_before_anything_runs() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+fn copy_dir(from: &Path, to: &Path) {
+    let _ = std::fs::remove_dir_all(to);
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap().flatten() {
+        let target = to.join(e.file_name());
+        if e.file_type().unwrap().is_dir() {
+            copy_dir(&e.path(), &target);
+        } else {
+            std::fs::copy(e.path(), target).unwrap();
+        }
+    }
+}
+
+/// Every file of a folder, by relative name, with its bytes.
+fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
+    let mut out = vec![];
+    for e in std::fs::read_dir(dir).unwrap().flatten() {
+        let name = e.file_name().to_string_lossy().into_owned();
+        if e.file_type().unwrap().is_dir() {
+            for (n, b) in snapshot(&e.path()) {
+                out.push((format!("{name}/{n}"), b));
+            }
+        } else {
+            out.push((name, std::fs::read(e.path()).unwrap()));
+        }
+    }
+    out.sort();
+    out
+}
+
+#[test]
+fn a_checkpoint_is_continued_only_by_its_own_run_and_every_field_is_checked() {
+    let root = tmp("identity");
+    let log = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    let sys = system(&root);
+    let run = |dir: &Path, resume: bool, halt: Option<f64>| {
+        let cfg = RunConfig {
+            halt_at_s: halt,
+            ..RunConfig::new(dir)
+        };
+        let mut csv = CsvObserver::new(dir.join("series.csv"));
+        cosim::run(&sys, &cfg, resume, log.clone(), &mut [&mut csv])
+    };
+    // The reference: straight through.
+    let straight = root.join("straight");
+    assert!(run(&straight, false, None).unwrap().completed);
+    let reference = std::fs::read(straight.join("series.csv")).unwrap();
+    // Stopped at 0.05 s with a checkpoint, then resumed: the same series, bit for bit.
+    let halted = root.join("halted");
+    assert!(run(&halted, false, Some(0.05)).unwrap().interrupted);
+    let good = root.join("good");
+    copy_dir(&halted, &good);
+    assert!(run(&good, true, None).unwrap().completed);
+    assert_eq!(std::fs::read(good.join("series.csv")).unwrap(), reference);
+
+    // Each damaged copy is refused with a message naming what does not match, and left as it was.
+    type Edit = fn(&mut serde_json::Value);
+    let edits: [(&str, Edit, &str); 8] = [
+        (
+            "emptied histories",
+            |m| m["histories"] = serde_json::json!([[], []]),
+            "coupling history of a: 0 points",
+        ),
+        (
+            "a history vector too short",
+            |m| {
+                m["histories"][1][0][1] = serde_json::json!([]);
+            },
+            "values per point",
+        ),
+        (
+            "one history missing",
+            |m| {
+                m["histories"].as_array_mut().unwrap().pop();
+            },
+            "1 coupling histories",
+        ),
+        (
+            "time moved off its step",
+            |m| {
+                let t = f64::from_bits(m["t_bits"].as_u64().unwrap()) + 0.003;
+                m["t_bits"] = t.to_bits().into();
+                let h = &mut m["histories"];
+                for s in h.as_array_mut().unwrap() {
+                    let last = s.as_array_mut().unwrap().last_mut().unwrap();
+                    last[0] = t.to_bits().into();
+                }
+            },
+            "is not macro step",
+        ),
+        (
+            "step index edited",
+            |m| m["step_index"] = 2.into(),
+            "is not macro step",
+        ),
+        (
+            "output index edited",
+            |m| m["next_output_index"] = 9.into(),
+            "output sample 9",
+        ),
+        (
+            "refinement level",
+            |m| m["refine_level"] = 60.into(),
+            "refinement level 60",
+        ),
+        (
+            "other FMUs",
+            |m| m["identity"]["guids"][0][1] = "{not-this-one}".into(),
+            "not the ones",
+        ),
+    ];
+    for (what, edit, expect) in edits {
+        let dir = root.join("bad");
+        copy_dir(&halted, &dir);
+        let mp = dir.join("checkpoint/master.json");
+        let mut m: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&mp).unwrap()).unwrap();
+        edit(&mut m);
+        std::fs::write(&mp, m.to_string()).unwrap();
+        let before = snapshot(&dir);
+        let e = run(&dir, true, None).unwrap_err().to_string();
+        assert!(e.contains(expect), "{what}: {e}");
+        assert!(snapshot(&dir) == before, "{what}: the folder was changed");
+    }
+    // The run folder's system file edited after the checkpoint: another run.
+    let dir = root.join("edited-system");
+    copy_dir(&halted, &dir);
+    let used = dir.join("system.toml");
+    let text = std::fs::read_to_string(&used).unwrap();
+    std::fs::write(&used, text.replace("stop_time = 0.1", "stop_time = 0.2")).unwrap();
+    let e = run(&dir, true, None).unwrap_err().to_string();
+    assert!(e.contains("system.toml was changed"), "{e}");
+    // The series edited before the checkpoint's length (same length, one digit): refused by the
+    // CSV observer before anything is cut.
+    let dir = root.join("edited-series");
+    copy_dir(&halted, &dir);
+    let csv = dir.join("series.csv");
+    let mut bytes = std::fs::read(&csv).unwrap();
+    let k = bytes.len() - 10
+        + bytes[bytes.len() - 10..]
+            .iter()
+            .position(|c| c.is_ascii_digit())
+            .unwrap();
+    bytes[k] = if bytes[k] == b'1' { b'2' } else { b'1' };
+    std::fs::write(&csv, &bytes).unwrap();
+    let e = run(&dir, true, None).unwrap_err().to_string();
+    assert!(e.contains("checksum differs"), "{e}");
+    assert_eq!(std::fs::read(&csv).unwrap(), bytes, "not cut");
+    let _ = std::fs::remove_dir_all(&root);
+}

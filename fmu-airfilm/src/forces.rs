@@ -28,6 +28,24 @@ pub struct FilmOutputs {
     pub p_max_pa: f64,
 }
 
+impl FilmOutputs {
+    /// True if every output is a finite number.
+    pub fn all_finite(&self) -> bool {
+        [
+            self.fx_n,
+            self.fy_n,
+            self.fx_contact_n,
+            self.fy_contact_n,
+            self.f_contact_n,
+            self.eps,
+            self.h_min_m,
+            self.p_max_pa,
+        ]
+        .iter()
+        .all(|x| x.is_finite())
+    }
+}
+
 /// Pressure part of the force (N) from the scaled nodal pressures `p` of all blocks.
 pub fn pressure_force_n(prm: &BearingParams, mesh: &Mesh, geom: &Geometry, p: &[f64]) -> [f64; 2] {
     let b = &mesh.basis;

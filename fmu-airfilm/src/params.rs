@@ -108,6 +108,22 @@ impl BearingParams {
                 return bad(name, v, "must be > 0");
             }
         }
+        // Sane bounds of a gas film: any gas from rarefied to a pressurised one (the scaled
+        // Reynolds equation's squeeze time and forces stay far inside f64).
+        if !(1e-7..=1.0).contains(&self.eta_pa_s) {
+            return bad(
+                "eta",
+                self.eta_pa_s,
+                "must lie between 1e-7 and 1 Pa s (air: 1.8e-5)",
+            );
+        }
+        if !(1e2..=1e8).contains(&self.p_a_pa) {
+            return bad(
+                "p_a",
+                self.p_a_pa,
+                "must lie between 100 Pa and 100 MPa (air at sea level: 101325)",
+            );
+        }
         let min_phi = if self.bore.plain_bore { 8 } else { 4 };
         if self.n_elem_phi < min_phi {
             return bad(

@@ -233,7 +233,20 @@ impl Model for AirFilmFmu {
     fn do_step(&mut self, t: f64, h: f64, inputs: &Inputs, log: &mut dyn Log) -> StepOutcome {
         let before = [self.outputs.fx_n, self.outputs.fy_n];
         let result = self.film.advance(t, h, &|tt| journal_at(inputs, tt));
-        self.outputs = self.film.outputs();
+        let outputs = self.film.outputs();
+        if !outputs.all_finite() {
+            // Whatever the solver said, a NaN or infinite force must never reach an output (a
+            // master would feed it to the rotor): the outputs stay those of the last good point.
+            return StepOutcome::Error(format!(
+                "t = {} s: the film's outputs became NaN or infinite (inputs dx = {} m, dy = {} m, \
+                 omega = {} rad/s); the outputs keep their values at t = {t} s",
+                self.film.time_s(),
+                inputs.real_at(vr::DX, t + h),
+                inputs.real_at(vr::DY, t + h),
+                inputs.real_at(vr::OMEGA, t + h),
+            ));
+        }
+        self.outputs = outputs;
         match result {
             Ok(stats) => {
                 if stats.n_pressure_floored > 0 && !self.floor_reported {

@@ -128,15 +128,15 @@ impl FmuParameter {
         self.target.instances().contains(&inst)
     }
 
-    /// The value as a TOML literal for a system file (strings keep their unit).
-    pub fn toml_literal(&self) -> String {
+    /// The value for a system file (a quantity with a unit stays the string it was given).
+    pub fn toml_value(&self) -> toml::Value {
         match self.value {
             Value::Real(_) if self.text.parse::<f64>().is_err() => {
-                crate::runup::toml_string(&self.text)
+                toml::Value::String(self.text.clone())
             }
-            Value::Real(x) => format!("{x:?}"),
-            Value::Integer(i) => i.to_string(),
-            Value::Boolean(b) => b.to_string(),
+            Value::Real(x) => toml::Value::Float(x),
+            Value::Integer(i) => toml::Value::Integer(i64::from(i)),
+            Value::Boolean(b) => toml::Value::Boolean(b),
         }
     }
 
@@ -232,7 +232,7 @@ pub fn parse_set_flags(flags: &[String]) -> Result<Vec<(String, String)>, String
 /// The store of the variable values of instance `inst` ("rotor", "film_C", "film_T"): the FMU's
 /// start values, then `parameters` as (name, TOML literal), e.g. a run-up's
 /// `RunupSettings::instance_parameters`.
-pub fn store_for(inst: &str, parameters: &[(String, String)]) -> Result<Store, String> {
+pub fn store_for(inst: &str, parameters: &[(String, toml::Value)]) -> Result<Store, String> {
     // Both films share one variable table: any film target gives it.
     let info = if inst == "rotor" {
         RotorFmu::info()
@@ -240,9 +240,10 @@ pub fn store_for(inst: &str, parameters: &[(String, String)]) -> Result<Store, S
         AirFilmFmu::info()
     };
     let mut store = Store::from_info(&info);
-    for (name, literal) in parameters {
-        let text = literal.trim_matches('"');
-        FmuParameter::parse(&format!("{inst}.{name}"), text)?.apply(&mut store);
+    for (name, value) in parameters {
+        let text = toml_value_text(value)
+            .ok_or_else(|| format!("{inst}.{name}: {value} is not a parameter value"))?;
+        FmuParameter::parse(&format!("{inst}.{name}"), &text)?.apply(&mut store);
     }
     Ok(store)
 }
@@ -257,14 +258,14 @@ mod tests {
         assert_eq!(p.target, Target::Films);
         assert_eq!(p.value, Value::Real(15e-6));
         assert!(p.applies_to("film_C") && p.applies_to("film_T") && !p.applies_to("rotor"));
-        assert_eq!(p.toml_literal(), "\"15 um\"");
+        assert_eq!(p.toml_value(), toml::Value::String("15 um".into()));
         let p = FmuParameter::parse("rotor.c_C", "1500 N/mm").unwrap();
         assert_eq!(p.value, Value::Real(1.5e6));
         assert_eq!(
             FmuParameter::parse("film_T.eta", "2e-5")
                 .unwrap()
-                .toml_literal(),
-            "2e-5"
+                .toml_value(),
+            toml::Value::Float(2e-5)
         );
         assert_eq!(
             FmuParameter::parse("film_C.n_elem_phi", "12")

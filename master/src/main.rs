@@ -2,7 +2,6 @@
 
 use clap::{Parser, Subcommand};
 use master::run::{run, RunOptions};
-use master::runup::RunupSettings;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -19,75 +18,13 @@ struct Cli {
     command: Command,
 }
 
-#[derive(clap::Args, Clone)]
-struct RunupArgs {
-    /// The rotor and its bearings (shared with `airring stability`).
-    #[command(flatten)]
-    bearing: master::design::DesignArgs,
-    /// Final speed [Hz].
-    #[arg(long)]
-    f_max: Option<f64>,
-    /// Run-up duration to f_max [s].
-    #[arg(long)]
-    t_ramp: Option<f64>,
-    /// Simulated time [s] (default: t_ramp).
-    #[arg(long)]
-    stop: Option<f64>,
-    /// Macro (communication) step [us].
-    #[arg(long)]
-    macro_step: Option<f64>,
-    /// Extrapolation order of the rotor's inputs (0, 1, 2).
-    #[arg(long)]
-    extrapolation_order: Option<u8>,
-    /// Interpolation order of the air films' inputs (0, 1, 2).
-    #[arg(long)]
-    interpolation_order: Option<u8>,
-    /// Compressor-wheel imbalance "mass_g,radius_mm,phase_deg".
-    #[arg(long)]
-    imbalance_c: Option<String>,
-    /// Turbine-wheel imbalance "mass_g,radius_mm,phase_deg".
-    #[arg(long)]
-    imbalance_t: Option<String>,
-    /// Random disturbance force on each journal, x and y: standard deviation [mN] (the seed of
-    /// self-excited whirl; 0 = off).
-    #[arg(long)]
-    disturbance: Option<f64>,
-    /// Seed of the disturbance generator (other seeds: independent realisations).
-    #[arg(long)]
-    disturbance_seed: Option<u32>,
-    /// Output interval [us].
-    #[arg(long)]
-    output_interval: Option<f64>,
-    /// Jacobi instead of Gauss-Seidel.
-    #[arg(long)]
-    jacobi: bool,
-    /// Step the two air films one after the other (one core) instead of in two threads.
-    #[arg(long)]
-    serial_films: bool,
-    /// Macro-step control: "RTOL,ATOL_N" of the extrapolated bearing forces (a step whose
-    /// extrapolated force misses the film's by more than ATOL + RTOL |F| is retried in halves,
-    /// down to 1/64), or "off" for a fixed macro step [default: 0.1,1]
-    #[arg(long)]
-    step_control: Option<String>,
-    /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: 1e-3,100; the FMU's own
-    /// defaults are 1e-4,10]
-    #[arg(long)]
-    film_tolerance: Option<String>,
-    /// Where the journal-ring contact is evaluated: "rotor" (implicitly inside the rotor's
-    /// steps) or "film" (with the film force, extrapolated over each macro step) [default: rotor]
-    #[arg(long)]
-    contact: Option<String>,
-    /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
-    #[arg(long)]
-    fmu_dir: Option<PathBuf>,
-}
-
 #[derive(Subcommand)]
 enum Command {
     /// A run-up of the paper's rotor in two air ring bearings.
+    #[command(allow_negative_numbers = true)]
     Runup {
         #[command(flatten)]
-        args: Box<RunupArgs>,
+        args: Box<master::runup_cli::RunupArgs>,
         #[command(flatten)]
         common: Common,
     },
@@ -210,6 +147,10 @@ struct Common {
     /// the run goes in any case, so a killed run keeps its data).
     #[arg(long)]
     parquet: bool,
+    /// Replace the run in the output folder, if it holds one (without it, such a folder is
+    /// refused). The old run stays untouched until the new one has started.
+    #[arg(long)]
+    overwrite: bool,
 }
 
 fn default_out(name: &str) -> PathBuf {
@@ -241,52 +182,6 @@ fn fmu_dir(given: Option<PathBuf>) -> Result<PathBuf, String> {
     Err(format!("rotor.fmu and airfilm.fmu not found in {candidates:?}: build them with `cargo xtask fmus` or pass --fmu-dir"))
 }
 
-fn triple(s: &str, flag: &str) -> Result<(f64, f64, f64), String> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|x| x.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| format!("--{flag} expects mass_g,radius_mm,phase_deg"))?;
-    match v[..] {
-        [m, r, p] if m >= 0.0 && r >= 0.0 => Ok((m, r, p)),
-        _ => Err(format!(
-            "--{flag} expects three numbers mass_g >= 0, radius_mm >= 0, phase_deg"
-        )),
-    }
-}
-
-fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
-    let mut s = a.bearing.settings()?;
-    s.f_max_hz = a.f_max.unwrap_or(s.f_max_hz);
-    s.t_ramp_s = a.t_ramp.unwrap_or(s.t_ramp_s);
-    s.stop_time_s = a.stop.unwrap_or(s.t_ramp_s);
-    s.macro_step_us = a.macro_step.unwrap_or(s.macro_step_us);
-    s.extrapolation_order = a.extrapolation_order.unwrap_or(s.extrapolation_order);
-    s.interpolation_order = a.interpolation_order.unwrap_or(s.interpolation_order);
-    s.output_interval_us = a.output_interval.unwrap_or(s.output_interval_us);
-    s.disturbance_mn = a.disturbance.unwrap_or(s.disturbance_mn);
-    s.disturbance_seed = a.disturbance_seed.unwrap_or(s.disturbance_seed);
-    s.jacobi = a.jacobi;
-    s.serial_films = a.serial_films;
-    if let Some(ft) = &a.film_tolerance {
-        s.film_tolerance = Some(master::runup::parse_film_tolerance(ft)?);
-    }
-    if let Some(sc) = &a.step_control {
-        s.step_control = master::runup::parse_step_control(sc)?;
-    }
-    if let Some(c) = &a.contact {
-        s.contact = master::runup::ContactSide::parse(c)?;
-    }
-    if let Some(i) = &a.imbalance_c {
-        s.imbalance_c = triple(i, "imbalance-c")?;
-    }
-    if let Some(i) = &a.imbalance_t {
-        s.imbalance_t = triple(i, "imbalance-t")?;
-    }
-    s.validate()?;
-    Ok(s)
-}
-
 /// The paper's three-lobe geometry with the given clearance and step height [um].
 fn lobes(clearance_um: f64, dh_um: f64) -> bearing::Bore {
     bearing::Bore {
@@ -311,6 +206,18 @@ fn stop_flag() -> Arc<AtomicBool> {
         );
     });
     flag
+}
+
+/// A new run into `opts.out_dir`; a folder this call created is removed again if the run could
+/// not start (an existing one is left as it was).
+fn new_run(system: &Path, opts: &RunOptions) -> Result<master::run::RunReport, String> {
+    let created = !opts.out_dir.exists();
+    let r = run(system, opts, false);
+    if r.is_err() && created {
+        // Only if empty: remove_dir refuses a folder with content.
+        let _ = std::fs::remove_dir(&opts.out_dir);
+    }
+    r
 }
 
 fn finish(report: master::run::RunReport, out: &Path) -> ExitCode {
@@ -490,7 +397,7 @@ fn main() -> ExitCode {
     quiet_on_closed_stdout(&cli.command);
     let result: Result<ExitCode, String> = (|| match cli.command {
         Command::Runup { args, common } => {
-            let s = settings(&args)?;
+            let s = master::runup_cli::settings(&args)?;
             s.validate_runup()?;
             let dir = fmu_dir(args.fmu_dir.clone())?;
             // TOML is UTF-8: a folder whose name is not cannot be written into a system file.
@@ -502,9 +409,9 @@ fn main() -> ExitCode {
                 )
             })?;
             let out = common.out.clone().unwrap_or_else(|| default_out(&s.preset));
-            std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-            let sys_path = out.join("system.toml");
-            std::fs::write(&sys_path, s.system_toml(dir_text)).map_err(|e| e.to_string())?;
+            master::out_folder::check_new_run(&out, common.overwrite)?;
+            // The system file goes into the run folder only once the run has started.
+            let staged = master::out_folder::StagedSystem::new(&s.system_toml(dir_text))?;
             eprintln!(
                 "run-up '{}': {}, 0 -> {} Hz in {} s; macro step {} us -> {}",
                 s.preset,
@@ -524,7 +431,7 @@ fn main() -> ExitCode {
                 bores: None,
                 parquet: common.parquet,
             };
-            let report = run(&sys_path, &opts, false)?;
+            let report = new_run(&staged.path, &opts)?;
             Ok(finish(report, &out))
         }
         Command::Run {
@@ -536,6 +443,7 @@ fn main() -> ExitCode {
             let out = common.out.clone().unwrap_or_else(|| {
                 default_out(system.file_stem().and_then(|s| s.to_str()).unwrap_or("run"))
             });
+            master::out_folder::check_new_run(&out, common.overwrite)?;
             let opts = RunOptions {
                 out_dir: out.clone(),
                 checkpoint_every_s: common.checkpoint_every,
@@ -549,7 +457,7 @@ fn main() -> ExitCode {
                 }),
                 parquet: common.parquet,
             };
-            let report = run(&system, &opts, false)?;
+            let report = new_run(&system, &opts)?;
             Ok(finish(report, &out))
         }
         Command::Resume {

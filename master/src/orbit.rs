@@ -200,6 +200,9 @@ pub fn is_close(a: f64, b: f64) -> bool {
     diff <= (1e-9 * b).abs() || diff <= (1e-9 * a).abs()
 }
 
+/// Most communication steps of one orbit run (its rows, ~100 bytes each, are kept in memory).
+pub const MAX_ORBIT_STEPS: f64 = 1e7;
+
 /// FMPy's communication points from `start` to `stop` with `interval` (see the module doc).
 pub fn communication_points(start: f64, stop: f64, interval: f64) -> Vec<f64> {
     let mut points = vec![start];
@@ -288,6 +291,13 @@ pub fn run_orbit(
     }
     if !(interval_s.is_finite() && interval_s > 0.0) {
         return Err(format!("the communication step {interval_s} s must be > 0"));
+    }
+    let steps = (stop_s - start_s) / interval_s;
+    if steps > MAX_ORBIT_STEPS {
+        return Err(format!(
+            "a communication step of {interval_s} s gives {steps:.3e} steps from {start_s} s to \
+             {stop_s} s (at most {MAX_ORBIT_STEPS:e}: the rows are kept in memory)"
+        ));
     }
     let info = AirFilmFmu::info();
     let mut store = fmi2::Store::from_info(&info);

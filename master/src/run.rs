@@ -209,6 +209,11 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
         halt_at_s: opts.halt_at_s,
     };
     let csv_path = opts.out_dir.join("timeseries.csv");
+    let mut guard = crate::out_folder::StartGuard {
+        dir: opts.out_dir.clone(),
+        settings: opts.extra.clone(),
+        memory_limit_bytes: None,
+    };
     let mut csv = CsvObserver::new(&csv_path);
     let mut progress = Progress::new(opts.quiet);
     let mut rows = Rows {
@@ -219,14 +224,15 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
     if resume {
         eprintln!("resuming {}", opts.out_dir.display());
     }
-    // The CSV observer comes before `rows`: on resume it cuts the file back to the checkpoint
-    // before `rows` reads it.
+    // The guard comes first: it may refuse the run before anything in the folder changes. The
+    // CSV observer comes before `rows`: on resume it cuts the file back to the checkpoint before
+    // `rows` reads it.
     let mut report = cosim::run(
         system_path,
         &cfg,
         resume,
         stderr_logger(),
-        &mut [&mut csv, &mut rows, &mut progress],
+        &mut [&mut guard, &mut csv, &mut rows, &mut progress],
     )
     .map_err(|e| e.to_string())?;
     let recorded = &rows.columns;

@@ -18,16 +18,12 @@ pub fn bores_of_system(system: &Path) -> Result<Option<[Bore; 2]>, String> {
         let Some(entry) = sys.file.fmu.iter().find(|e| e.name.get_ref() == inst) else {
             return Ok(None);
         };
-        let literals: Vec<(String, String)> = entry
+        let values: Vec<(String, toml::Value)> = entry
             .parameters
             .iter()
-            .map(|(name, value)| {
-                let text = crate::fmu_params::toml_value_text(value.get_ref())
-                    .ok_or_else(|| format!("{}: {inst}.{name}: not a value", system.display()))?;
-                Ok((name.clone(), text))
-            })
-            .collect::<Result<_, String>>()?;
-        let store = crate::fmu_params::store_for(inst, &literals)
+            .map(|(name, value)| (name.clone(), value.get_ref().clone()))
+            .collect();
+        let store = crate::fmu_params::store_for(inst, &values)
             .map_err(|e| format!("{}: {inst}: {e}", system.display()))?;
         bores.push(fmu_airfilm::shell::params_from(&store).bore);
     }

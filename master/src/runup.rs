@@ -2,7 +2,7 @@
 //! written into the run folder, so every run can be repeated with `airring run DIR/system.toml`.
 
 use crate::fmu_params::FmuParameter;
-use std::fmt::Write;
+use toml::Value;
 
 /// Everything an engineer varies in a run-up, in the units they think in (named in the fields).
 #[derive(Clone, Debug, serde::Serialize)]
@@ -221,37 +221,38 @@ impl RunupSettings {
     }
 
     /// The rotor's parameters of this run-up as (name, TOML literal), before `fmu_parameters`.
-    fn rotor_parameters(&self) -> Vec<(String, String)> {
+    fn rotor_parameters(&self) -> Vec<(String, Value)> {
         let (mc, rc, pc) = self.imbalance_c;
         let (mt, rt, pt) = self.imbalance_t;
         let (c, d, m) = (self.c_n_per_mm, self.d_n_s_per_m, self.m_r_g);
-        let mut v: Vec<(&str, String)> = vec![
-            ("c_C", format!("\"{c} N/mm\"")),
-            ("c_T", format!("\"{c} N/mm\"")),
-            ("d_C", format!("{d:?}")),
-            ("d_T", format!("{d:?}")),
-            ("m_R_C", format!("\"{m} g\"")),
-            ("m_R_T", format!("\"{m} g\"")),
-            ("f_max", format!("{:?}", self.f_max_hz)),
-            ("t_ramp", format!("{:?}", self.t_ramp_s)),
-            ("m_imb_C", format!("\"{mc} g\"")),
-            ("r_imb_C", format!("\"{rc} mm\"")),
-            ("phase_imb_C", format!("\"{pc} deg\"")),
-            ("m_imb_T", format!("\"{mt} g\"")),
-            ("r_imb_T", format!("\"{rt} mm\"")),
-            ("phase_imb_T", format!("\"{pt} deg\"")),
+        let q = |x: f64, unit: &str| Value::String(format!("{x} {unit}"));
+        let mut v: Vec<(&str, Value)> = vec![
+            ("c_C", q(c, "N/mm")),
+            ("c_T", q(c, "N/mm")),
+            ("d_C", Value::Float(d)),
+            ("d_T", Value::Float(d)),
+            ("m_R_C", q(m, "g")),
+            ("m_R_T", q(m, "g")),
+            ("f_max", Value::Float(self.f_max_hz)),
+            ("t_ramp", Value::Float(self.t_ramp_s)),
+            ("m_imb_C", q(mc, "g")),
+            ("r_imb_C", q(rc, "mm")),
+            ("phase_imb_C", q(pc, "deg")),
+            ("m_imb_T", q(mt, "g")),
+            ("r_imb_T", q(rt, "mm")),
+            ("phase_imb_T", q(pt, "deg")),
+            ("disturbance_force", q(self.disturbance_mn, "mN")),
             (
-                "disturbance_force",
-                format!("\"{} mN\"", self.disturbance_mn),
+                "disturbance_seed",
+                Value::Integer(i64::from(self.disturbance_seed)),
             ),
-            ("disturbance_seed", self.disturbance_seed.to_string()),
         ];
         if self.contact == ContactSide::Rotor {
             // The rotor evaluates the contact on the films' own bore and contact law, derived
             // from the films' final parameters (including `--set film.C=...`), so the two cannot
             // disagree. One bore serves both bearings in the rotor FMU: `validate` refuses films
             // whose bores differ.
-            v.push(("contact", "true".into()));
+            v.push(("contact", Value::Boolean(true)));
             if let Ok([film_c, _]) = self.film_params() {
                 v.extend(rotor_contact_parameters(&film_c.bore, &film_c.contact));
             }
@@ -259,28 +260,28 @@ impl RunupSettings {
         v.into_iter().map(|(k, x)| (k.to_string(), x)).collect()
     }
 
-    /// An air film's parameters of this run-up as (name, TOML literal), before `fmu_parameters`.
-    fn film_parameters(&self) -> Vec<(String, String)> {
-        let mut v: Vec<(&str, String)> = vec![
-            ("C", format!("\"{} um\"", self.clearance_um)),
-            ("dH", format!("\"{} um\"", self.dh_um)),
-            ("n_elem_phi", self.n_elem_phi.to_string()),
-            ("n_elem_z", self.n_elem_z.to_string()),
+    /// An air film's parameters of this run-up as (name, TOML value), before `fmu_parameters`.
+    fn film_parameters(&self) -> Vec<(String, Value)> {
+        let mut v: Vec<(&str, Value)> = vec![
+            ("C", Value::String(format!("{} um", self.clearance_um))),
+            ("dH", Value::String(format!("{} um", self.dh_um))),
+            ("n_elem_phi", Value::Integer(i64::from(self.n_elem_phi))),
+            ("n_elem_z", Value::Integer(i64::from(self.n_elem_z))),
         ];
         if let Some([rtol, atol]) = self.film_tolerance {
-            v.push(("rtol", format!("{rtol:?}")));
-            v.push(("atol", format!("\"{atol} Pa\"")));
+            v.push(("rtol", Value::Float(rtol)));
+            v.push(("atol", Value::String(format!("{atol} Pa"))));
         }
         if self.contact == ContactSide::Rotor {
-            v.push(("contact_in_force", "false".into()));
+            v.push(("contact_in_force", Value::Boolean(false)));
         }
         v.into_iter().map(|(k, x)| (k.to_string(), x)).collect()
     }
 
-    /// The parameters of instance `inst` ("rotor", "film_C", "film_T") as (name, TOML literal):
+    /// The parameters of instance `inst` ("rotor", "film_C", "film_T") as (name, TOML value):
     /// the run-up's own, each `fmu_parameters` entry for it replacing or adding one. Entries that
     /// fail their check are left out here; `validate` reports them.
-    pub fn instance_parameters(&self, inst: &str) -> Vec<(String, String)> {
+    pub fn instance_parameters(&self, inst: &str) -> Vec<(String, Value)> {
         let mut v = if inst == "rotor" {
             self.rotor_parameters()
         } else {
@@ -290,89 +291,118 @@ impl RunupSettings {
             if !p.applies_to(inst) {
                 continue;
             }
-            let lit = p.toml_literal();
+            let value = p.toml_value();
             match v.iter_mut().find(|(k, _)| *k == p.name) {
-                Some(e) => e.1 = lit,
-                None => v.push((p.name.clone(), lit)),
+                Some(e) => e.1 = value,
+                None => v.push((p.name.clone(), value)),
             }
         }
         v
     }
 
-    /// The system file for this run-up; `fmu_dir` holds rotor.fmu and airfilm.fmu.
+    /// The system file for this run-up; `fmu_dir` holds rotor.fmu and airfilm.fmu. Written by
+    /// the TOML serializer: any folder name or `--set` text comes out as a valid TOML string.
     pub fn system_toml(&self, fmu_dir: &str) -> String {
-        let mut s = String::new();
-        let table = |inst: &str| -> String {
-            let kv: Vec<String> = self
-                .instance_parameters(inst)
-                .into_iter()
-                .map(|(k, v)| format!("{k} = {v}"))
-                .collect();
-            format!("parameters = {{ {} }}", kv.join(", "))
+        let fmu = |name: &str, file: &str| FmuEntry {
+            name: name.to_string(),
+            path: format!("{fmu_dir}/{file}"),
+            parameters: self.instance_parameters(name).into_iter().collect(),
         };
-        writeln!(
-            s,
-            "# Run-up '{}' generated by airring (units are SI unless a string names them).",
-            self.preset
-        )
-        .unwrap();
-        writeln!(
-            s,
-            "[[fmu]]\nname = \"rotor\"\npath = {}\n{}",
-            toml_string(&format!("{fmu_dir}/rotor.fmu")),
-            table("rotor")
-        )
-        .unwrap();
+        let mut connection = vec![];
+        let mut connect = |from: String, to: String| connection.push(Connection { from, to });
         for side in ["C", "T"] {
-            writeln!(
-                s,
-                "\n[[fmu]]\nname = \"film_{side}\"\npath = {}\n{}",
-                toml_string(&format!("{fmu_dir}/airfilm.fmu")),
-                table(&format!("film_{side}"))
-            )
-            .unwrap();
-        }
-        for side in ["C", "T"] {
-            for (out, inp) in [("dx", "dx"), ("dy", "dy"), ("vx", "vx"), ("vy", "vy")] {
-                writeln!(
-                    s,
-                    "\n[[connection]]\nfrom = \"rotor.{out}_{side}\"\nto = \"film_{side}.{inp}\""
-                )
-                .unwrap();
+            for v in ["dx", "dy", "vx", "vy"] {
+                connect(format!("rotor.{v}_{side}"), format!("film_{side}.{v}"));
             }
-            writeln!(
-                s,
-                "\n[[connection]]\nfrom = \"rotor.omega\"\nto = \"film_{side}.omega\""
-            )
-            .unwrap();
+            connect("rotor.omega".into(), format!("film_{side}.omega"));
             for axis in ["x", "y"] {
-                writeln!(s, "\n[[connection]]\nfrom = \"film_{side}.F{axis}\"\nto = \"rotor.F_{side}_{axis}\"").unwrap();
+                connect(
+                    format!("film_{side}.F{axis}"),
+                    format!("rotor.F_{side}_{axis}"),
+                );
             }
         }
-        writeln!(
-            s,
-            "\n[algorithm]\nkind = \"{}\"\nparallel = {}\norder = [\"rotor\", \"film_C\", \"film_T\"]\nmacro_step = \"{} us\"\nstop_time = \"{} s\"\nextrapolation_order = {}\ninterpolation_order = {}",
-            if self.jacobi { "jacobi" } else { "gauss-seidel" },
-            !self.serial_films,
-            self.macro_step_us,
-            self.stop_time_s,
-            self.extrapolation_order,
-            self.interpolation_order
+        let file = SystemFile {
+            fmu: vec![
+                fmu("rotor", "rotor.fmu"),
+                fmu("film_C", "airfilm.fmu"),
+                fmu("film_T", "airfilm.fmu"),
+            ],
+            connection,
+            algorithm: Algorithm {
+                kind: if self.jacobi {
+                    "jacobi"
+                } else {
+                    "gauss-seidel"
+                },
+                parallel: !self.serial_films,
+                order: ["rotor", "film_C", "film_T"],
+                macro_step: format!("{} us", self.macro_step_us),
+                stop_time: format!("{} s", self.stop_time_s),
+                extrapolation_order: self.extrapolation_order,
+                interpolation_order: self.interpolation_order,
+                step_control: self
+                    .step_control
+                    .map(|[rtol, atol]| StepControl { rtol, atol }),
+            },
+            output: Output {
+                interval: format!("{} us", self.output_interval_us),
+                variables: RECORDED,
+            },
+        };
+        format!(
+            "# Run-up '{}' generated by airring (units are SI unless a string names them).\n{}",
+            self.preset.replace(['\n', '\r'], " "),
+            toml::to_string(&file).expect("a system file is plain data")
         )
-        .unwrap();
-        if let Some([rtol, atol]) = self.step_control {
-            writeln!(s, "step_control = {{ rtol = {rtol:?}, atol = {atol:?} }}").unwrap();
-        }
-        let vars: Vec<String> = RECORDED.iter().map(|v| format!("\"{v}\"")).collect();
-        writeln!(
-            s,
-            "\n[output]\ninterval = \"{} us\"\nvariables = [{}]",
-            self.output_interval_us,
-            vars.join(", ")
-        )
-        .unwrap();
-        s
     }
+}
+
+/// The generated system file, as the TOML serializer writes it (the layout `cosim::system` reads).
+#[derive(serde::Serialize)]
+struct SystemFile {
+    fmu: Vec<FmuEntry>,
+    connection: Vec<Connection>,
+    algorithm: Algorithm,
+    output: Output,
+}
+
+#[derive(serde::Serialize)]
+struct FmuEntry {
+    name: String,
+    path: String,
+    parameters: toml::Table,
+}
+
+#[derive(serde::Serialize)]
+struct Connection {
+    from: String,
+    to: String,
+}
+
+#[derive(serde::Serialize)]
+struct Algorithm {
+    kind: &'static str,
+    parallel: bool,
+    order: [&'static str; 3],
+    macro_step: String,
+    stop_time: String,
+    extrapolation_order: u8,
+    interpolation_order: u8,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    step_control: Option<StepControl>,
+}
+
+#[derive(serde::Serialize)]
+struct StepControl {
+    rtol: f64,
+    atol: f64,
+}
+
+#[derive(serde::Serialize)]
+struct Output {
+    interval: String,
+    variables: &'static [&'static str],
 }
 
 /// The bearings as the run-up's FMUs get them, in the units engineers read: "c = 1000 N/mm,
@@ -403,25 +433,19 @@ pub fn describe_bearings(s: &RunupSettings) -> Result<String, String> {
 fn rotor_contact_parameters(
     bore: &bearing::Bore,
     law: &bearing::ContactLaw,
-) -> Vec<(&'static str, String)> {
+) -> Vec<(&'static str, Value)> {
     vec![
-        ("bearing_r", format!("{:?}", bore.r_m)),
-        ("bearing_b", format!("{:?}", bore.b_m)),
-        ("bearing_C", format!("{:?}", bore.c_m)),
-        ("bearing_dH", format!("{:?}", bore.dh_m)),
-        ("bearing_phi_t", format!("{:?}", bore.phi_t_rad)),
-        ("bearing_alpha", format!("{:?}", bore.alpha_rad)),
-        ("bearing_n_lobes", bore.n_lobes.to_string()),
-        ("bearing_plain_bore", bore.plain_bore.to_string()),
-        ("bearing_h_con_rel", format!("{:?}", law.h_con_rel)),
-        ("bearing_c_con", format!("{:?}", law.c_con_n_per_m3)),
+        ("bearing_r", Value::Float(bore.r_m)),
+        ("bearing_b", Value::Float(bore.b_m)),
+        ("bearing_C", Value::Float(bore.c_m)),
+        ("bearing_dH", Value::Float(bore.dh_m)),
+        ("bearing_phi_t", Value::Float(bore.phi_t_rad)),
+        ("bearing_alpha", Value::Float(bore.alpha_rad)),
+        ("bearing_n_lobes", Value::Integer(bore.n_lobes as i64)),
+        ("bearing_plain_bore", Value::Boolean(bore.plain_bore)),
+        ("bearing_h_con_rel", Value::Float(law.h_con_rel)),
+        ("bearing_c_con", Value::Float(law.c_con_n_per_m3)),
     ]
-}
-
-/// `s` as a TOML basic string, quotes, backslashes and control characters escaped (a folder
-/// named `a"b\c` or a value with a newline must not break the system file).
-pub fn toml_string(s: &str) -> String {
-    toml::Value::String(s.to_string()).to_string()
 }
 
 /// "X,Y" as two numbers (spaces allowed).
@@ -539,9 +563,14 @@ mod tests {
         let mut s = RunupSettings::preset("path1").unwrap();
         s.film_tolerance = Some([1e-3, 100.0]);
         let text = s.system_toml("fmus");
-        assert!(text.contains("rtol = 0.001, atol = \"100 Pa\""), "{text}");
-        assert!(
-            text.contains("step_control = { rtol = 0.1, atol = 1.0 }"),
+        let doc: toml::Table = text.parse().unwrap();
+        let film = &doc["fmu"][1]["parameters"];
+        assert_eq!(film["rtol"], toml::Value::Float(0.001), "{text}");
+        assert_eq!(film["atol"], toml::Value::String("100 Pa".into()), "{text}");
+        let control = &doc["algorithm"]["step_control"];
+        assert_eq!(
+            (control["rtol"].as_float(), control["atol"].as_float()),
+            (Some(0.1), Some(1.0)),
             "{text}"
         );
         s.step_control = None;
@@ -562,7 +591,10 @@ mod tests {
         let text = s.system_toml("fmus");
         // The rotor gets the films' whole bore and contact law, bit for bit; both films leave
         // the contact out of their force.
-        assert!(text.contains(", contact = true, bearing_r = "), "{text}");
+        let doc: toml::Table = text.parse().unwrap();
+        let rotor = &doc["fmu"][0]["parameters"];
+        assert_eq!(rotor["contact"], toml::Value::Boolean(true), "{text}");
+        assert_eq!(rotor["bearing_C"], toml::Value::Float(15e-6), "{text}");
         let store = |inst: &str| crate::fmu_params::store_for(inst, &s.instance_parameters(inst));
         let rotor = fmu_rotor::shell::params_from(&store("rotor").unwrap());
         let film = fmu_airfilm::shell::params_from(&store("film_C").unwrap());

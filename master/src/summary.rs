@@ -15,6 +15,9 @@ pub enum RunStatus {
     Interrupted,
     #[default]
     Failed,
+    /// Written when a run starts: a folder left with it was killed (SIGKILL, power loss) before
+    /// it could write how it ended; its checkpoint, if any, can be resumed.
+    Running,
 }
 
 impl RunStatus {
@@ -23,6 +26,7 @@ impl RunStatus {
             RunStatus::Completed => "completed",
             RunStatus::Interrupted => "interrupted",
             RunStatus::Failed => "failed",
+            RunStatus::Running => "running",
         }
     }
 }
@@ -110,6 +114,15 @@ impl RunSummary {
         }
     }
 
+    /// The summary of a run that has started and not ended yet (what a killed run leaves).
+    pub fn running(settings: serde_json::Value) -> Self {
+        RunSummary {
+            status: RunStatus::Running,
+            settings,
+            ..RunSummary::default()
+        }
+    }
+
     /// A failure summary for a run that wrote none (a crash, bad flags, a kill).
     pub fn failure(error: String) -> Self {
         RunSummary {
@@ -125,11 +138,12 @@ impl RunSummary {
         serde_json::from_str(&text).ok()
     }
 
-    /// Writes `dir/summary.json`.
+    /// Writes `dir/summary.json` whole or not at all (a temporary file renamed over it), so a
+    /// full disk never leaves a truncated or empty summary.
     pub fn write(&self, dir: &Path) -> Result<(), String> {
         let path = dir.join("summary.json");
         let text = serde_json::to_string_pretty(self).map_err(|e| e.to_string())?;
-        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))
+        crate::output::write_whole(&path, text.as_bytes())
     }
 }
 

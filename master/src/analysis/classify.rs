@@ -67,6 +67,9 @@ pub enum RunClass {
     Path2a,
     Path2b,
     UnstableLowSpeed,
+    /// The run covers less than [`onset::MIN_PERSIST_S`]: no oscillation can have persisted long
+    /// enough to be an onset, nor proven it would not.
+    TooShort,
 }
 
 impl RunClass {
@@ -78,6 +81,7 @@ impl RunClass {
             RunClass::Path2a => "path2a",
             RunClass::Path2b => "path2b",
             RunClass::UnstableLowSpeed => "unstable_low_speed",
+            RunClass::TooShort => "too_short",
         }
     }
 }
@@ -177,6 +181,26 @@ pub fn classify(series: &RunSeries) -> Classification {
         m
     };
 
+    let duration_s =
+        series.t_s.last().copied().unwrap_or(0.0) - series.t_s.first().copied().unwrap_or(0.0);
+    if duration_s < onset::MIN_PERSIST_S {
+        let m = max_eps_from(f64::NEG_INFINITY, true);
+        return Classification {
+            class: RunClass::TooShort,
+            onset_time_s: None,
+            onset_speed_hz: None,
+            first_bearing: None,
+            max_eps_c: m[0],
+            max_eps_t: m[1],
+            whirl: Vec::new(),
+            criteria: format!(
+                "too short to classify: the run covers {duration_s:.4} s, less than the {} s an \
+                 oscillation must persist to count as an onset (run to at least {} s)",
+                onset::MIN_PERSIST_S,
+                onset::MIN_PERSIST_S
+            ),
+        };
+    }
     let Some((t_on, first_b)) = first else {
         let m = max_eps_from(f64::NEG_INFINITY, false);
         return Classification {

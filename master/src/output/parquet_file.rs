@@ -63,7 +63,25 @@ pub fn write(path: &Path, columns: &[(String, String)], rows: &[Vec<f64>]) -> Re
             serde_json::Value::Object(units).to_string(),
         )]))
         .build();
-    let file = std::fs::File::create(path).map_err(|e| err(&e))?;
+    // Written under a temporary name and renamed when whole: a full disk or a kill never leaves
+    // a truncated file under the final name.
+    let tmp = crate::output::temporary_name(path);
+    let file = std::fs::File::create(&tmp).map_err(|e| err(&e))?;
+    let result = write_rows(file, schema, props, rows);
+    let result = result.and_then(|()| std::fs::rename(&tmp, path).map_err(|e| e.to_string()));
+    if result.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    result.map_err(|e| err(&e))
+}
+
+fn write_rows(
+    file: std::fs::File,
+    schema: Type,
+    props: parquet::file::properties::WriterProperties,
+    rows: &[Vec<f64>],
+) -> Result<(), String> {
+    let err = |e: &dyn std::fmt::Display| e.to_string();
     let mut w =
         SerializedFileWriter::new(file, Arc::new(schema), Arc::new(props)).map_err(|e| err(&e))?;
     let mut column = Vec::with_capacity(ROW_GROUP_ROWS.min(rows.len()));
@@ -81,8 +99,8 @@ pub fn write(path: &Path, columns: &[(String, String)], rows: &[Vec<f64>]) -> Re
         }
         rg.close().map_err(|e| err(&e))?;
     }
-    w.close().map_err(|e| err(&e))?;
-    Ok(())
+    let file = w.into_inner().map_err(|e| err(&e))?;
+    file.sync_all().map_err(|e| err(&e))
 }
 
 #[cfg(test)]

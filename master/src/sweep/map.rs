@@ -13,6 +13,7 @@ const CLASS_NAMES: &[(&str, &str, &str)] = &[
     ("path2b", "path 2b", "path 2b"),
     ("unstable_low_speed", "unstable low", "unst.low"),
     ("unstable_linear", "lin. unst.", "lin. unst."),
+    ("too_short", "too short", "too short"),
 ];
 
 fn legend_color(name: &str) -> Rgb {

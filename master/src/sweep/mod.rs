@@ -115,11 +115,14 @@ fn is_done(dir: &Path, args: &BTreeMap<String, String>) -> bool {
     done && same_run(dir, args)
 }
 
-/// True if `dir` holds an interrupted run (Ctrl-C, SIGTERM of a batch system's time limit)
-/// with exactly these flags and the checkpoint it wrote when it stopped: `airring resume`
-/// continues it instead of starting it again from t = 0.
+/// True if `dir` holds an interrupted run (Ctrl-C, SIGTERM of a batch system's time limit) or a
+/// killed one (SIGKILL, out of memory: its summary still says "running", or `ensure_summary`
+/// marked it interrupted) with exactly these flags and a checkpoint: `airring resume` continues
+/// it from there instead of starting it again from t = 0.
 fn is_resumable(dir: &Path, args: &BTreeMap<String, String>) -> bool {
-    let interrupted = RunSummary::read(dir).is_some_and(|s| s.status == RunStatus::Interrupted);
+    // "running": killed (SIGKILL, the node lost) with the sweep, before anyone could say so.
+    let interrupted = RunSummary::read(dir)
+        .is_some_and(|s| matches!(s.status, RunStatus::Interrupted | RunStatus::Running));
     interrupted && same_run(dir, args) && dir.join("checkpoint/master.json").exists()
 }
 
@@ -168,6 +171,8 @@ fn start_run(spec: &RunSpec, opts: &SweepOptions) -> Result<Running, String> {
         )
         .map_err(|e| format!("{}: {e}", dir.display()))?;
         cmd.args(runup_args(&spec.args));
+        // The sweep owns its run folders: a failed or stale run there is replaced.
+        cmd.arg("--overwrite");
         if opts.serial_films {
             cmd.arg("--serial-films");
         }
@@ -213,11 +218,33 @@ fn start_run(spec: &RunSpec, opts: &SweepOptions) -> Result<Running, String> {
     })
 }
 
-/// Writes a failure summary for a run-up that ended without writing one (crash, bad flags,
-/// killed): none is there, or only the `stale` one a resumed run started from.
+/// Writes a failure summary for a run-up that ended without writing one (crash, bad flags):
+/// none is there, or only the `stale` one a resumed run started from. A run-up killed after it
+/// started (its summary still says "running") is marked interrupted instead, with its settings
+/// kept: the next sweep resumes it from its last checkpoint.
 fn ensure_summary(dir: &Path, code: Option<i32>, stale: Option<&str>) {
     let p = dir.join("summary.json");
-    let fresh = std::fs::read_to_string(&p).is_ok_and(|now| Some(now.as_str()) != stale);
+    let now = std::fs::read_to_string(&p).ok();
+    let fresh = now.as_deref().is_some_and(|now| Some(now) != stale);
+    let summary = now.and_then(|t| serde_json::from_str::<RunSummary>(&t).ok());
+    if let Some(s) = summary.filter(|s| fresh && s.status == RunStatus::Running) {
+        let resumable = dir.join("checkpoint/master.json").exists();
+        let _ = RunSummary {
+            status: RunStatus::Interrupted,
+            interrupted: true,
+            error: Some(format!(
+                "the run-up was killed (exit code {code:?}) before it ended; {}",
+                if resumable {
+                    "the next sweep resumes it from its last checkpoint"
+                } else {
+                    "it had written no checkpoint, so the next sweep starts it again"
+                }
+            )),
+            ..s
+        }
+        .write(dir);
+        return;
+    }
     if fresh {
         return;
     }

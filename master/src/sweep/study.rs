@@ -147,6 +147,7 @@ impl Study {
                 .map(|s| s.to_string_lossy().into_owned())
                 .unwrap_or_else(|| "study".into()),
         };
+        check_study_name(&name).map_err(err)?;
         for k in doc.keys() {
             if !matches!(k.as_str(), "name" | "fixed" | "grid" | "description") {
                 return Err(err(format!(
@@ -331,8 +332,33 @@ impl Study {
                 }
             }
         }
+        // Every point through the run-up's own flag parser and checks, so that `--list` (and
+        // the sweep, before it starts anything) refuses what the run-up would refuse.
+        for r in &runs {
+            crate::runup_cli::check_argv(&runup_args(&r.args))
+                .map_err(|e| err(format!("run '{}' ({}): {e}", r.name, grid_list(&r.grids))))?;
+        }
         Ok(Study { name, runs })
     }
+}
+
+fn grid_list(grids: &[String]) -> String {
+    grids.join(", ")
+}
+
+/// A study name names its output folder (`runs/sweep-NAME`): letters, digits, '-', '_' and
+/// '.', not starting with a dot, so it cannot lead outside `runs/`.
+fn check_study_name(name: &str) -> Result<(), String> {
+    let plain = name
+        .chars()
+        .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+    if name.is_empty() || !plain || name.starts_with('.') {
+        return Err(format!(
+            "name '{name}': a study name names its output folder, so it may hold only letters, \
+             digits, '-', '_' and '.', and may not start with a dot"
+        ));
+    }
+    Ok(())
 }
 
 /// Folder name of a run from its grid parameters, e.g. `C15_dH30_c500_d50` (an FMU parameter
@@ -365,9 +391,14 @@ pub fn run_name(varied: &BTreeMap<String, String>) -> String {
         })
         .collect();
     if parts.is_empty() {
-        "base".into()
-    } else {
-        parts.join("_")
+        return "base".into();
+    }
+    // A run name is a folder inside the sweep's `runs/`: never "..", never hidden (a preset
+    // value "..", or one starting with a dot, would otherwise name the sweep's own folder).
+    let name = parts.join("_").replace("..", "--");
+    match name.strip_prefix('.') {
+        Some(rest) => format!("-{rest}"),
+        None => name,
     }
 }
 
@@ -504,6 +535,7 @@ d = [50]
             r#"
 [fixed]
 "rotor.c_C" = "1500 N/mm"
+contact = "film"
 [[grid]]
 film.eta = [1.8e-5, 2e-5]
 cases = [{ c = 500, film_T.C = "25 um" }]
@@ -523,7 +555,7 @@ d = 50
         let a = runup_args(&s.runs[1].args).join(" ");
         assert_eq!(
             a,
-            "runup --c 500 --d 50 --set film.eta=0.00002 --set film_T.C=25 um --set rotor.c_C=1500 N/mm"
+            "runup --c 500 --contact film --d 50 --set film.eta=0.00002 --set film_T.C=25 um --set rotor.c_C=1500 N/mm"
         );
         for (text, why) in [
             (

@@ -1,0 +1,165 @@
+//! A run's output folder: who may write into it, and what a run that starts there replaces.
+//!
+//! A new run into a folder that holds a run refuses unless `--overwrite` is given; a run that is
+//! refused or fails to start (bad flags, an FMU that rejects a parameter, too little memory)
+//! leaves the folder as it was: the system file waits outside it until the FMUs are set up, and
+//! [`StartGuard`], the first observer of every run, replaces the old outputs only once the run
+//! has started.
+
+use crate::summary::RunSummary;
+use cosim::observer::{Observer, RunStart};
+use std::path::{Path, PathBuf};
+
+/// Files whose presence marks a folder as a run folder.
+const RUN_FILES: &[&str] = &[
+    "system.toml",
+    "summary.json",
+    "timeseries.csv",
+    "checkpoint",
+];
+
+/// Outputs of a finished run that a new run in the same folder would not rewrite (the series
+/// and the system file are rewritten anyway; the checkpoint is removed by the library).
+const STALE_FILES: &[&str] = &["summary.json", "timeseries.parquet"];
+
+/// True if `dir` holds (part of) a run.
+pub fn holds_run(dir: &Path) -> bool {
+    RUN_FILES.iter().any(|f| dir.join(f).exists())
+}
+
+/// Checks that a new run may write into `dir`: it is new, empty of runs, or `overwrite` is set.
+pub fn check_new_run(dir: &Path, overwrite: bool) -> Result<(), String> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(format!("{}: exists and is not a folder", dir.display()));
+    }
+    if overwrite || !holds_run(dir) {
+        return Ok(());
+    }
+    let status = RunSummary::read(dir).map_or_else(
+        || "no summary".to_string(),
+        |s| format!("status {}", s.status.as_str()),
+    );
+    Err(format!(
+        "{} holds a run already ({status}); choose another --out, resume it with `airring resume \
+         {}`, or pass --overwrite to replace it",
+        dir.display(),
+        dir.display()
+    ))
+}
+
+/// A system file generated for a run, kept outside the run folder until the run has started
+/// (removed when dropped).
+pub struct StagedSystem {
+    pub path: PathBuf,
+}
+
+impl StagedSystem {
+    /// Writes `text` to a fresh temporary file.
+    pub fn new(text: &str) -> Result<Self, String> {
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos());
+        let path = std::env::temp_dir().join(format!(
+            "airring-system-{}-{nanos}.toml",
+            std::process::id()
+        ));
+        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        Ok(StagedSystem { path })
+    }
+}
+
+impl Drop for StagedSystem {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.path);
+    }
+}
+
+/// Bytes of memory the machine has available (MemAvailable), if the system says.
+fn available_memory_bytes() -> Option<f64> {
+    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
+    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kib * 1024.0)
+}
+
+/// Memory the run's output samples take when kept for the analysis and Parquet [bytes].
+pub fn samples_bytes(stop_time_s: f64, output_interval_s: f64, columns: usize) -> f64 {
+    let rows = (stop_time_s / output_interval_s).floor() + 2.0;
+    // Time and the values as f64, plus a Vec header per row.
+    rows * ((columns + 1) as f64 * 8.0 + 24.0)
+}
+
+/// The first observer of every run: refuses a run whose samples would not fit in memory, then
+/// (only then) replaces the folder's stale outputs and marks the run as running.
+pub struct StartGuard {
+    pub dir: PathBuf,
+    /// The settings summary.json records (kept while the run is running and after a kill).
+    pub settings: serde_json::Value,
+    /// Memory the samples may take [bytes] (None: half of what the machine has available).
+    pub memory_limit_bytes: Option<f64>,
+}
+
+impl Observer for StartGuard {
+    fn started(&mut self, run: &RunStart<'_>) -> Result<(), String> {
+        let need = samples_bytes(run.stop_time_s, run.output_interval_s, run.columns.len());
+        let limit = self
+            .memory_limit_bytes
+            .or_else(|| available_memory_bytes().map(|a| 0.5 * a));
+        if let Some(limit) = limit {
+            if need > limit {
+                return Err(format!(
+                    "the run would keep {:.1} GB of output samples in memory ({:.3e} rows of {} \
+                     values), more than the {:.1} GB it may use: choose a longer output interval \
+                     or a shorter stop time",
+                    need / 1e9,
+                    run.stop_time_s / run.output_interval_s,
+                    run.columns.len() + 1,
+                    limit / 1e9
+                ));
+            }
+        }
+        if run.resumed_from.is_none() {
+            // The figures of the run this one replaces, as its summary lists them.
+            let old_plots = RunSummary::read(&self.dir)
+                .and_then(|s| s.plots)
+                .unwrap_or_default();
+            for f in STALE_FILES
+                .iter()
+                .map(|f| f.to_string())
+                .chain(old_plots.into_iter().filter(|p| is_plain_file_name(p)))
+            {
+                // Only files: whatever else stands under such a name is not an old output.
+                let path = self.dir.join(&f);
+                if path.is_file() {
+                    std::fs::remove_file(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+                }
+            }
+        }
+        RunSummary::running(self.settings.clone()).write(&self.dir)
+    }
+}
+
+/// A file name without folders (what a summary may ask to remove).
+fn is_plain_file_name(name: &str) -> bool {
+    !name.is_empty() && name != "." && name != ".." && !name.contains('/') && !name.contains('\\')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_folder_free_names_are_plain() {
+        assert!(is_plain_file_name("orbit_C.svg"));
+        for bad in ["", ".", "..", "../x.svg", "a/b", "a\\b"] {
+            assert!(!is_plain_file_name(bad), "{bad}");
+        }
+    }
+
+    #[test]
+    fn samples_of_a_default_runup_are_a_few_megabytes() {
+        // path 1: 3 s at 100 us, 15 columns.
+        let b = samples_bytes(3.0, 100e-6, 15);
+        assert!((4e6..6e6).contains(&b), "{b}");
+    }
+}

@@ -1,0 +1,141 @@
+//! The flags of `airring runup`, and the run-up settings they give. Sweeps check every point
+//! of a study through the same parser and checks ([`check_argv`]), so `--list` refuses what a
+//! run would refuse.
+
+use crate::runup::RunupSettings;
+use clap::Parser;
+use std::path::PathBuf;
+
+#[derive(clap::Args, Clone)]
+pub struct RunupArgs {
+    /// The rotor and its bearings (shared with `airring stability`).
+    #[command(flatten)]
+    pub bearing: crate::design::DesignArgs,
+    /// Final speed [Hz].
+    #[arg(long)]
+    pub f_max: Option<f64>,
+    /// Run-up duration to f_max [s].
+    #[arg(long)]
+    pub t_ramp: Option<f64>,
+    /// Simulated time [s] (default: t_ramp).
+    #[arg(long)]
+    pub stop: Option<f64>,
+    /// Macro (communication) step [us].
+    #[arg(long)]
+    pub macro_step: Option<f64>,
+    /// Extrapolation order of the rotor's inputs (0, 1, 2).
+    #[arg(long)]
+    pub extrapolation_order: Option<u8>,
+    /// Interpolation order of the air films' inputs (0, 1, 2).
+    #[arg(long)]
+    pub interpolation_order: Option<u8>,
+    /// Compressor-wheel imbalance "mass_g,radius_mm,phase_deg".
+    #[arg(long)]
+    pub imbalance_c: Option<String>,
+    /// Turbine-wheel imbalance "mass_g,radius_mm,phase_deg".
+    #[arg(long)]
+    pub imbalance_t: Option<String>,
+    /// Random disturbance force on each journal, x and y: standard deviation [mN] (the seed of
+    /// self-excited whirl; 0 = off).
+    #[arg(long)]
+    pub disturbance: Option<f64>,
+    /// Seed of the disturbance generator (other seeds: independent realisations).
+    #[arg(long)]
+    pub disturbance_seed: Option<u32>,
+    /// Output interval [us].
+    #[arg(long)]
+    pub output_interval: Option<f64>,
+    /// Jacobi instead of Gauss-Seidel.
+    #[arg(long)]
+    pub jacobi: bool,
+    /// Step the two air films one after the other (one core) instead of in two threads.
+    #[arg(long)]
+    pub serial_films: bool,
+    /// Macro-step control: "RTOL,ATOL_N" of the extrapolated bearing forces (a step whose
+    /// extrapolated force misses the film's by more than ATOL + RTOL |F| is retried in halves,
+    /// down to 1/64), or "off" for a fixed macro step [default: 0.1,1]
+    #[arg(long)]
+    pub step_control: Option<String>,
+    /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: 1e-3,100; the FMU's own
+    /// defaults are 1e-4,10]
+    #[arg(long)]
+    pub film_tolerance: Option<String>,
+    /// Where the journal-ring contact is evaluated: "rotor" (implicitly inside the rotor's
+    /// steps) or "film" (with the film force, extrapolated over each macro step) [default: rotor]
+    #[arg(long)]
+    pub contact: Option<String>,
+    /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
+    #[arg(long)]
+    pub fmu_dir: Option<PathBuf>,
+}
+
+fn triple(s: &str, flag: &str) -> Result<(f64, f64, f64), String> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| format!("--{flag} expects mass_g,radius_mm,phase_deg"))?;
+    match v[..] {
+        [m, r, p] if m >= 0.0 && r >= 0.0 => Ok((m, r, p)),
+        _ => Err(format!(
+            "--{flag} expects three numbers mass_g >= 0, radius_mm >= 0, phase_deg"
+        )),
+    }
+}
+
+pub fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
+    let mut s = a.bearing.settings()?;
+    s.f_max_hz = a.f_max.unwrap_or(s.f_max_hz);
+    s.t_ramp_s = a.t_ramp.unwrap_or(s.t_ramp_s);
+    s.stop_time_s = a.stop.unwrap_or(s.t_ramp_s);
+    s.macro_step_us = a.macro_step.unwrap_or(s.macro_step_us);
+    s.extrapolation_order = a.extrapolation_order.unwrap_or(s.extrapolation_order);
+    s.interpolation_order = a.interpolation_order.unwrap_or(s.interpolation_order);
+    s.output_interval_us = a.output_interval.unwrap_or(s.output_interval_us);
+    s.disturbance_mn = a.disturbance.unwrap_or(s.disturbance_mn);
+    s.disturbance_seed = a.disturbance_seed.unwrap_or(s.disturbance_seed);
+    s.jacobi = a.jacobi;
+    s.serial_films = a.serial_films;
+    if let Some(ft) = &a.film_tolerance {
+        s.film_tolerance = Some(crate::runup::parse_film_tolerance(ft)?);
+    }
+    if let Some(sc) = &a.step_control {
+        s.step_control = crate::runup::parse_step_control(sc)?;
+    }
+    if let Some(c) = &a.contact {
+        s.contact = crate::runup::ContactSide::parse(c)?;
+    }
+    if let Some(i) = &a.imbalance_c {
+        s.imbalance_c = triple(i, "imbalance-c")?;
+    }
+    if let Some(i) = &a.imbalance_t {
+        s.imbalance_t = triple(i, "imbalance-t")?;
+    }
+    s.validate()?;
+    Ok(s)
+}
+
+/// `airring runup` with only the run-up flags: what a study point may set.
+#[derive(Parser)]
+#[command(name = "runup", allow_negative_numbers = true)]
+struct RunupFlagsOnly {
+    #[command(flatten)]
+    args: RunupArgs,
+}
+
+/// Checks an `airring runup` argument list (first element "runup", no --out) as the command
+/// would: every flag parsed and every value through the run-up's own checks.
+pub fn check_argv(argv: &[String]) -> Result<RunupSettings, String> {
+    let flags = RunupFlagsOnly::try_parse_from(argv).map_err(|e| {
+        // clap's message without its usage block: the first line says what is wrong.
+        e.to_string()
+            .lines()
+            .next()
+            .unwrap_or("invalid flags")
+            .trim_start_matches("error: ")
+            .to_string()
+    })?;
+    let s = settings(&flags.args)?;
+    s.validate_runup()?;
+    Ok(s)
+}
