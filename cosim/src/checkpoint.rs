@@ -175,11 +175,15 @@ pub fn checksum_continue(h: u64, bytes: &[u8]) -> u64 {
 fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     use std::io::Write;
     let tmp = path.with_extension("tmp");
-    let mut f = std::fs::File::create(&tmp)?;
-    f.write_all(bytes)?;
-    f.sync_all()?;
-    drop(f);
-    std::fs::rename(&tmp, path)?;
+    let written = std::fs::File::create(&tmp).and_then(|mut f| {
+        f.write_all(bytes)?;
+        f.sync_all()
+    });
+    if let Err(e) = written.and_then(|()| std::fs::rename(&tmp, path)) {
+        // A full disk: the partial file would only take the space the next attempt needs.
+        let _ = std::fs::remove_file(&tmp);
+        return Err(e);
+    }
     if let Some(parent) = path.parent() {
         std::fs::File::open(parent)?.sync_all()?;
     }
@@ -210,9 +214,15 @@ fn write_states(
     step_index: u64,
 ) -> std::io::Result<(String, Vec<StateCheck>)> {
     let tag = new_tag(step_index);
-    let mut checks = Vec::with_capacity(names.len());
+    let mut checks: Vec<StateCheck> = Vec::with_capacity(names.len());
     for (n, s) in names.iter().zip(states) {
-        write_atomic(&cp.join(state_file(n, Some(&tag))), s)?;
+        if let Err(e) = write_atomic(&cp.join(state_file(n, Some(&tag))), s) {
+            // The generation is incomplete: its files are garbage (the previous one still holds).
+            for done in &checks {
+                let _ = std::fs::remove_file(cp.join(state_file(&done.0, Some(&tag))));
+            }
+            return Err(e);
+        }
         checks.push((n.clone(), s.len() as u64, checksum(s)));
     }
     Ok((tag, checks))
@@ -234,14 +244,20 @@ pub fn write(
         state_checks: checks,
         ..master.clone()
     };
-    write_atomic(
+    let current: Vec<String> = names.iter().map(|n| state_file(n, Some(&tag))).collect();
+    if let Err(e) = write_atomic(
         &cp.join("master.json"),
         serde_json::to_string_pretty(&master)
             .expect("plain data")
             .as_bytes(),
-    )?;
+    ) {
+        // The new generation is not named by master.json: garbage (the previous one holds).
+        for f in &current {
+            let _ = std::fs::remove_file(cp.join(f));
+        }
+        return Err(e);
+    }
     // Older generations are garbage now; failing to remove them loses nothing.
-    let current: Vec<String> = names.iter().map(|n| state_file(n, Some(&tag))).collect();
     for e in std::fs::read_dir(&cp)?.flatten() {
         let name = e.file_name().to_string_lossy().into_owned();
         if name.ends_with(".state") && !current.contains(&name) {

@@ -319,13 +319,18 @@ impl<'a> Execution<'a> {
             .map(|dt| ((self.built.cosim.time_s() / dt).floor() + 1.0) * dt);
         loop {
             let t = self.built.cosim.time_s();
-            // Output samples due at the current macro point.
-            while output_time(next_output, interval) <= t + 1e-9 * h {
+            // One sample at a macro point where output times are due. Outputs exist only at macro
+            // points: an output interval shorter than the macro step gives one row per macro
+            // point, never repeated rows of the same time.
+            if output_time(next_output, interval) <= t + 1e-9 * h {
                 self.record()?;
                 for o in observers.iter_mut() {
                     o.sample(t, &self.values)?;
                 }
-                next_output += 1;
+                next_output = ((t + 1e-9 * h) / interval).floor().max(0.0) as u64;
+                while output_time(next_output, interval) <= t + 1e-9 * h {
+                    next_output += 1;
+                }
             }
             for o in observers.iter_mut() {
                 o.macro_point(&self.built.cosim, stop);

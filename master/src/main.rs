@@ -465,6 +465,13 @@ fn main() -> ExitCode {
             checkpoint_every,
             parquet,
         } => {
+            if !dir.join("system.toml").is_file() {
+                return Err(format!(
+                    "{}: no run to resume (no system.toml): the run never started here, or this \
+                     is not a run folder",
+                    dir.display()
+                ));
+            }
             let old = master::summary::RunSummary::read(&dir).unwrap_or_default();
             let opts = RunOptions {
                 out_dir: dir.clone(),

@@ -74,12 +74,38 @@ impl Drop for StagedSystem {
     }
 }
 
-/// Bytes of memory the machine has available (MemAvailable), if the system says.
+/// Bytes of memory this process may still use: the machine's MemAvailable, or less if a
+/// cgroup (a batch job's limit) allows less; None if the system says neither.
 fn available_memory_bytes() -> Option<f64> {
-    let text = std::fs::read_to_string("/proc/meminfo").ok()?;
-    let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
-    let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-    Some(kib * 1024.0)
+    let meminfo = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|text| {
+            let line = text.lines().find(|l| l.starts_with("MemAvailable:"))?;
+            let kib: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+            Some(kib * 1024.0)
+        });
+    let read = |f: &str| -> Option<f64> {
+        std::fs::read_to_string(Path::new("/sys/fs/cgroup").join(f))
+            .ok()?
+            .trim()
+            .parse()
+            .ok()
+    };
+    // cgroup v2 at the root of the process's namespace ("max" does not parse: no limit).
+    let cgroup = read("memory.max").map(|max| max - read("memory.current").unwrap_or(0.0));
+    match (meminfo, cgroup) {
+        (Some(a), Some(b)) => Some(a.min(b)),
+        (a, b) => a.or(b),
+    }
+}
+
+/// The memory the samples of a run may take [bytes]: `AIRRING_MEMORY_LIMIT` (bytes) if set,
+/// else half of what the process may still use.
+fn samples_memory_limit() -> Option<f64> {
+    match std::env::var("AIRRING_MEMORY_LIMIT") {
+        Ok(v) => v.trim().parse().ok(),
+        Err(_) => available_memory_bytes().map(|a| 0.5 * a),
+    }
 }
 
 /// Memory the run's output samples take when kept for the analysis and Parquet [bytes].
@@ -95,16 +121,15 @@ pub struct StartGuard {
     pub dir: PathBuf,
     /// The settings summary.json records (kept while the run is running and after a kill).
     pub settings: serde_json::Value,
-    /// Memory the samples may take [bytes] (None: half of what the machine has available).
+    /// Memory the samples may take [bytes] (None: `AIRRING_MEMORY_LIMIT`, else half of what the
+    /// process may still use).
     pub memory_limit_bytes: Option<f64>,
 }
 
 impl Observer for StartGuard {
     fn started(&mut self, run: &RunStart<'_>) -> Result<(), String> {
         let need = samples_bytes(run.stop_time_s, run.output_interval_s, run.columns.len());
-        let limit = self
-            .memory_limit_bytes
-            .or_else(|| available_memory_bytes().map(|a| 0.5 * a));
+        let limit = self.memory_limit_bytes.or_else(samples_memory_limit);
         if let Some(limit) = limit {
             if need > limit {
                 return Err(format!(

@@ -155,6 +155,21 @@ impl RunupSettings {
     /// bearings). The linear analysis takes each film's own and needs only `validate`.
     pub fn validate_runup(&self) -> Result<(), String> {
         self.validate()?;
+        if self.stop_time_s * 1e6 < self.macro_step_us {
+            return Err(format!(
+                "--stop = {} s is shorter than one macro step ({} us)",
+                self.stop_time_s, self.macro_step_us
+            ));
+        }
+        // The FMUs' own checks of the parameters they will get, so that a study's `--list`
+        // refuses what the FMUs would refuse at the start of each run.
+        let [c, t] = self.film_params()?;
+        for (inst, p) in [("film_C", c), ("film_T", t)] {
+            p.validate().map_err(|e| format!("{inst}: {e}"))?;
+        }
+        self.rotor_params()?
+            .validate()
+            .map_err(|e| format!("rotor: {e}"))?;
         self.check_contact_geometry()
     }
 

@@ -429,6 +429,117 @@ fn sigterm_interrupts_a_sweep_and_the_next_sweep_resumes_from_the_checkpoint() {
     let _ = std::fs::remove_dir_all(&base);
 }
 
+/// The pid of the process whose command line holds every one of `parts`.
+fn pid_of(parts: &[&str]) -> Option<u32> {
+    std::fs::read_dir("/proc").ok()?.flatten().find_map(|e| {
+        let pid: u32 = e.file_name().to_str()?.parse().ok()?;
+        let cmd = std::fs::read(e.path().join("cmdline")).ok()?;
+        let cmd = String::from_utf8_lossy(&cmd).replace('\0', " ");
+        parts.iter().all(|p| cmd.contains(p)).then_some(pid)
+    })
+}
+
+/// A run-up killed outright (SIGKILL: no handler, no summary of its own) after a checkpoint:
+/// the sweep marks it interrupted with its settings kept, and the next sweep resumes it from the
+/// checkpoint (issue #17 items 4 and 5): its summary is then complete.
+#[test]
+fn a_killed_runup_resumes_from_its_checkpoint_with_a_complete_summary() {
+    let base = tmp("sigkill");
+    let study = base.join("one.toml");
+    std::fs::write(
+        &study,
+        "name = \"one\"\n[fixed]\npreset = \"path1\"\nstop = 0.3\nmesh = \"8x2\"\n[[grid]]\nd = [60]\n",
+    )
+    .unwrap();
+    let out = base.join("out");
+    let sweep = Command::new(env!("CARGO_BIN_EXE_airring"))
+        .args(["sweep", study.to_str().unwrap(), "--jobs", "1", "--quiet"])
+        .args(["--checkpoint-every", "0.01", "--out"])
+        .arg(&out)
+        .current_dir(root())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let run = out.join("runs/d60");
+    let t0 = std::time::Instant::now();
+    let read_step = || -> Option<u64> {
+        let m = std::fs::read_to_string(run.join("checkpoint/master.json")).ok()?;
+        serde_json::from_str::<serde_json::Value>(&m).ok()?["step_index"].as_u64()
+    };
+    // A summary that says "running" while the run-up works, with its settings in it.
+    while read_step().is_none_or(|k| k < 1000) {
+        assert!(
+            t0.elapsed().as_secs() < 120,
+            "no checkpoint in {}",
+            run.display()
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    let running: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(running["status"], "running", "{running}");
+    assert_eq!(running["settings"]["d_n_s_per_m"], 60.0, "{running}");
+    let pid = pid_of(&["runup", run.to_str().unwrap()]).expect("the run-up's process");
+    assert!(Command::new("kill")
+        .args(["-KILL", &pid.to_string()])
+        .status()
+        .unwrap()
+        .success());
+    let status = sweep.wait_with_output().unwrap().status;
+    assert!(
+        !status.success(),
+        "a sweep with a killed run-up reports failure"
+    );
+    let killed: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(killed["status"], "interrupted", "{killed}");
+    assert!(
+        killed["error"].as_str().unwrap().contains("killed"),
+        "{killed}"
+    );
+    assert_eq!(killed["settings"]["d_n_s_per_m"], 60.0, "{killed}");
+
+    let (ok, err) = airring(&[
+        "sweep",
+        study.to_str().unwrap(),
+        "--jobs",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let log = std::fs::read_to_string(run.join("runup.log")).unwrap();
+    assert!(log.contains("resuming"), "resumed, not restarted: {log}");
+    let done: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(run.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(done["status"], "completed", "{done}");
+    assert_eq!(done["settings"]["d_n_s_per_m"], 60.0, "{done}");
+    assert_eq!(done["settings"]["preset"], "path1", "{done}");
+    assert!(done["classification"].is_string(), "{done}");
+    assert!(
+        done["max_eps_C"].as_f64().is_some_and(|e| e > 0.0),
+        "{done}"
+    );
+    assert!(done["clearance_um"]["C"].as_f64() == Some(20.0), "{done}");
+    let plots = done["plots"].as_array().expect("plots");
+    assert!(!plots.is_empty());
+    for p in plots {
+        assert!(run.join(p.as_str().unwrap()).exists(), "{p}");
+    }
+    let csv = std::fs::read_to_string(run.join("timeseries.csv")).unwrap();
+    let times: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').next().unwrap().parse().unwrap())
+        .collect();
+    assert!(
+        times.windows(2).all(|w| w[1] > w[0]),
+        "times strictly increase"
+    );
+    assert!(*times.last().unwrap() > 0.299, "{:?}", times.last());
+    let _ = std::fs::remove_dir_all(&base);
+}
+
 /// `airring runup --set` reaches the FMU: with film_T's clearance set to 25 um (film_C keeps the
 /// preset's 20 um; per-bearing geometry needs the contact in the films), each film's reported
 /// eccentricity is its journal's displacement over its own clearance. A parameter the FMU does

@@ -184,6 +184,16 @@ fn non_physical_parameters_are_refused_with_a_reason() {
         |s| s.set_integer(&[vr::N_ELEM_PHI], &[1]).unwrap(),
         "n_elem_phi",
     );
+    // Absurd magnitudes (before: accepted; r = 1e300 m made a discarded step's forces inf).
+    exit_init_fails(|s| s.set_real(&[vr::C], &[1e300]).unwrap(), "C");
+    exit_init_fails(|s| s.set_real(&[vr::P_A], &[1e300]).unwrap(), "p_a");
+    exit_init_fails(|s| s.set_real(&[vr::R], &[1e300]).unwrap(), "r");
+    exit_init_fails(|s| s.set_real(&[vr::ETA], &[1e300]).unwrap(), "eta");
+    // A clearance that is no thin film any more: C above a tenth of the radius.
+    exit_init_fails(
+        |s| s.set_real(&[vr::C], &[5e-3]).unwrap(),
+        "tenth of the radius",
+    );
     // A journal already beyond the contact limit (gap closed) at the start.
     exit_init_fails(
         |s| s.set_real(&[vr::DY], &[-100e-6]).unwrap(),

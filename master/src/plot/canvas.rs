@@ -354,14 +354,18 @@ impl Canvas {
 
     /// Write `<stem>.svg` and `<stem>.png` into `dir`; returns both paths.
     pub fn save(&self, dir: &Path, stem: &str) -> std::io::Result<Vec<std::path::PathBuf>> {
+        // Whole files or none (a full disk must not leave empty figures behind).
+        let write = |path: &Path, bytes: &[u8]| {
+            crate::output::write_whole(path, bytes).map_err(std::io::Error::other)
+        };
         let svg = dir.join(format!("{stem}.svg"));
-        std::fs::write(&svg, self.to_svg())?;
+        write(&svg, self.to_svg().as_bytes())?;
         let png = dir.join(format!("{stem}.png"));
         let pm = self
             .to_pixmap()
             .ok_or_else(|| std::io::Error::other("plot: cannot allocate the raster"))?;
         let bytes = pm.encode_png().map_err(std::io::Error::other)?;
-        std::fs::write(&png, bytes)?;
+        write(&png, &bytes)?;
         Ok(vec![svg, png])
     }
 }

@@ -581,4 +581,33 @@ d = 50
             assert!(e.contains(why), "{text}: {e}");
         }
     }
+
+    /// Every value goes through the run-up's own checks when the study is read (before: these
+    /// passed `--list` and failed in every run, the reason only in runs/*/runup.log), and no
+    /// name leads outside the output folder.
+    #[test]
+    fn studies_are_checked_completely_when_read() {
+        for (text, why) in [
+            ("[[grid]]\nc = [\"abc\"]\n", "invalid value 'abc'"),
+            ("[[grid]]\nc = [500, -5]\n", "--c = -5 N/mm must be >= 0"),
+            ("[[grid]]\nmesh = \"8by2\"\n", "expected NxM"),
+            ("[fixed]\nstop = 0\n", "--stop = 0 s must be > 0"),
+            ("[[grid]]\npreset = [\"..\"]\n", "unknown preset '..'"),
+            ("name = \"../../../../x\"\n", "may not start with a dot"),
+            ("name = \"a/b\"\n", "only letters"),
+            ("[fixed]\n\"film.eta\" = -1\n", "eta"),
+        ] {
+            let e = Study::parse(text, Path::new("x.toml")).unwrap_err();
+            assert!(e.contains(why), "{text}: {e}");
+        }
+        // The failing point is named with its grid.
+        let e = Study::parse("[[grid]]\nc = [500, -5]\n", Path::new("x.toml")).unwrap_err();
+        assert!(e.contains("run 'c-5' (grid1)"), "{e}");
+        // Run names stay inside runs/: never "..", never hidden.
+        let mut v = BTreeMap::new();
+        v.insert("preset".to_string(), "..".to_string());
+        assert_eq!(run_name(&v), "--");
+        v.insert("preset".to_string(), ".hidden".to_string());
+        assert_eq!(run_name(&v), "-hidden");
+    }
 }
