@@ -112,7 +112,8 @@ def test_boolean_and_integer_parameters_are_exported_typed(exported, tmp_path):
     """A Boolean goes into the SSD as "true"; run_ssp.py hands FMPy a Python bool (FMPy's own
     `value != 0.0` would turn the string "false" into true)."""
     run_dir = exported[0]
-    text = (run_dir / "system.toml").read_text().replace("n_elem_z = 3", "n_elem_z = 3, start_steady = true", 1)
+    # The generated file has one [fmu.parameters] table per instance; film_C's comes first.
+    text = (run_dir / "system.toml").read_text().replace("n_elem_z = 3\n", "n_elem_z = 3\nstart_steady = true\n", 1)
     sysfile = tmp_path / "steady.toml"
     sysfile.write_text(text)
     ssp = export(sysfile, tmp_path / "steady.ssp")
