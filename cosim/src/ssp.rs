@@ -4,8 +4,10 @@
 //! conversion `airring run` applies), the connections, and the FMUs under `resources/`.
 //!
 //! SSP 1.0 has no place for a co-simulation algorithm. The macro step and stop time go into
-//! `DefaultExperiment` and an `org.airring.algorithm` annotation (kind, order, polynomial orders);
-//! tools ignore the annotation. Components are written in `algorithm.order`, which is the order in
+//! `DefaultExperiment` (with OSP's `FixedStepAlgorithm` annotation, which libcosim reads as its
+//! step: without a step it crashes) and an `org.airring.algorithm` annotation (kind, order,
+//! polynomial orders); other tools ignore the annotations. Connectors carry their type element
+//! (libcosim refuses untyped ones); all parameter sets share the name [`PARAMETER_SET`]. Components are written in `algorithm.order`, which is the order in
 //! which FMPy's SSP runner steps them (its algorithm is Jacobi-like whatever the order: see
 //! docs/fmu-guide.md).
 //!
@@ -23,13 +25,18 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
+/// The name of every component's parameter set: one name, because ecos applies the sets of one
+/// name (`init(parameter_set="airring")`); libcosim and FMPy apply each component's set whatever
+/// its name.
+pub const PARAMETER_SET: &str = "airring";
+
 /// One FMU instance as it goes into the SSD.
 struct Component {
     name: String,
     /// `resources/<file>.fmu` inside the archive.
     source: String,
-    /// (variable, kind) in the FMU's variable order.
-    connectors: Vec<(String, &'static str)>,
+    /// (variable, kind, type) in the FMU's variable order.
+    connectors: Vec<(String, &'static str, fmi2::variables::VarType)>,
     /// (variable, value) in the system file's (sorted) order.
     parameters: Vec<(String, ParamValue)>,
 }
@@ -186,7 +193,7 @@ pub fn export(system_path: &Path, out: &Path) -> Result<Exported, String> {
     for c in &mut comps {
         for v in &fmus[&c.name].variables {
             if let Some(kind) = used.get(&(c.name.clone(), v.name.clone())) {
-                c.connectors.push((v.name.clone(), kind));
+                c.connectors.push((v.name.clone(), kind, v.var_type));
             }
         }
     }
@@ -240,7 +247,7 @@ fn ssd_xml(
     s.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let _ = writeln!(
         s,
-        "<ssd:SystemStructureDescription xmlns:ssc=\"http://ssp-standard.org/SSP1/SystemStructureCommon\" xmlns:ssd=\"http://ssp-standard.org/SSP1/SystemStructureDescription\" xmlns:ssv=\"http://ssp-standard.org/SSP1/SystemStructureParameterValues\" version=\"1.0\" name=\"{n}\" generationTool=\"airring {}\">",
+        "<ssd:SystemStructureDescription xmlns:ssc=\"http://ssp-standard.org/SSP1/SystemStructureCommon\" xmlns:ssd=\"http://ssp-standard.org/SSP1/SystemStructureDescription\" xmlns:ssv=\"http://ssp-standard.org/SSP1/SystemStructureParameterValues\" xmlns:osp=\"http://opensimulationplatform.com/SSP/OSPAnnotations\" version=\"1.0\" name=\"{n}\" generationTool=\"airring {}\">",
         env!("CARGO_PKG_VERSION")
     );
     let _ = writeln!(
@@ -257,11 +264,14 @@ fn ssd_xml(
         );
         if !c.connectors.is_empty() {
             s.push_str("        <ssd:Connectors>\n");
-            for (v, kind) in &c.connectors {
+            for (v, kind, var_type) in &c.connectors {
+                // The type element is optional in SSP 1.0, but libcosim refuses a connector
+                // without one ("A valid connector type was not found!").
                 let _ = writeln!(
                     s,
-                    "          <ssd:Connector name=\"{}\" kind=\"{kind}\"/>",
-                    xml_escape(v)
+                    "          <ssd:Connector name=\"{}\" kind=\"{kind}\"><ssc:{}/></ssd:Connector>",
+                    xml_escape(v),
+                    var_type.as_str()
                 );
             }
             s.push_str("        </ssd:Connectors>\n");
@@ -269,8 +279,7 @@ fn ssd_xml(
         if !c.parameters.is_empty() {
             let _ = writeln!(
                 s,
-                "        <ssd:ParameterBindings>\n          <ssd:ParameterBinding>\n            <ssd:ParameterValues>\n              <ssv:ParameterSet version=\"1.0\" name=\"{}\">\n                <ssv:Parameters>",
-                xml_escape(&c.name)
+                "        <ssd:ParameterBindings>\n          <ssd:ParameterBinding>\n            <ssd:ParameterValues>\n              <ssv:ParameterSet version=\"1.0\" name=\"{PARAMETER_SET}\">\n                <ssv:Parameters>"
             );
             for (p, v) in &c.parameters {
                 // Values in the FMU variable's own (SI) unit, so no unit attribute is needed.
@@ -320,7 +329,7 @@ fn ssd_xml(
     s.push_str("  </ssd:System>\n");
     let _ = writeln!(
         s,
-        "  <ssd:DefaultExperiment startTime=\"0.0\" stopTime=\"{stop_time_s:?}\"/>\n</ssd:SystemStructureDescription>"
+        "  <ssd:DefaultExperiment startTime=\"0.0\" stopTime=\"{stop_time_s:?}\">\n    <ssd:Annotations>\n      <ssc:Annotation type=\"com.opensimulationplatform\">\n        <osp:Algorithm>\n          <osp:FixedStepAlgorithm baseStepSize=\"{macro_step_s:?}\"/>\n        </osp:Algorithm>\n      </ssc:Annotation>\n    </ssd:Annotations>\n  </ssd:DefaultExperiment>\n</ssd:SystemStructureDescription>"
     );
     s
 }

@@ -133,6 +133,23 @@ pub struct Instance<M: Model> {
     pub core: Core<M>,
     /// Reused between steps so doStep does not allocate.
     inputs: Inputs,
+    /// The `rtol` / `atol` parameters the master set through fmi2SetReal: they win over the
+    /// tolerance of fmi2SetupExperiment (see [`Instance::effective_store`]).
+    tolerances_set: [bool; 2],
+}
+
+/// Value references of a model's Real parameters named `rtol` and `atol`, with their start values.
+fn tolerance_parameters(info: &ModelInfo) -> [Option<(u32, f64)>; 2] {
+    ["rtol", "atol"].map(|name| {
+        info.variables
+            .iter()
+            .find(|v| {
+                v.name == name
+                    && v.var_type == VarType::Real
+                    && v.causality == crate::variables::Causality::Parameter
+            })
+            .map(|v| (v.vr, v.start.unwrap_or(0.0)))
+    })
 }
 
 /// Adapter that lets the model log through the instance's logger.
@@ -226,7 +243,29 @@ impl<M: Model> Instance<M> {
             },
             index: VarIndex::new(&info),
             info,
+            tolerances_set: [false; 2],
         })
+    }
+
+    /// The store the model is built from: with a tolerance from fmi2SetupExperiment, a model's
+    /// Real parameters `rtol` and `atol` that the master did not set take it: rtol = tolerance,
+    /// atol = its start value scaled by tolerance / rtol's start value (both tighten together).
+    /// A value the master set through fmi2SetReal wins.
+    fn effective_store(&self) -> std::borrow::Cow<'_, Store> {
+        let Some(tol) = self.core.tolerance else {
+            return std::borrow::Cow::Borrowed(&self.core.store);
+        };
+        let [rtol, atol] = tolerance_parameters(&self.info);
+        let mut store = self.core.store.clone();
+        if let (Some((vr, _)), false) = (rtol, self.tolerances_set[0]) {
+            store.reals[vr as usize] = tol;
+        }
+        if let (Some((vr, atol0)), Some((_, rtol0)), false) = (atol, rtol, self.tolerances_set[1]) {
+            if rtol0 > 0.0 {
+                store.reals[vr as usize] = atol0 * tol / rtol0;
+            }
+        }
+        std::borrow::Cow::Owned(store)
     }
 
     /// The variable of a type and value reference (O(1)).
@@ -311,7 +350,7 @@ impl<M: Model> Instance<M> {
             return Ok(());
         }
         let mut log = ModelLog(&self.logger);
-        let model = M::new(&self.core.store, self.core.start_time, &mut log)
+        let model = M::new(&self.effective_store(), self.core.start_time, &mut log)
             .map_err(|e| (Status::Error, e))?;
         model.write_outputs(&mut self.core.store);
         self.core.model = Some(model);
@@ -348,6 +387,7 @@ impl<M: Model> Instance<M> {
         c.start_time = de.start_time;
         c.stop_time = None;
         c.tolerance = None;
+        self.tolerances_set = [false; 2];
         c.last_successful_time = de.start_time;
         c.input_derivatives
             .iter_mut()
@@ -451,14 +491,15 @@ impl<M: Model> Instance<M> {
 
     fn check_range(&self, t: VarType, vr: u32, x: f64) -> Result<(), (Status, String)> {
         let v = self.variable(t, vr).expect("checked");
-        let unit = v.unit.unwrap_or("");
+        // " Pa" after a value with a unit, nothing after one without.
+        let unit = v.unit.map_or(String::new(), |u| format!(" {u}"));
         if !x.is_finite() {
             return err(format!("value {x} for '{}' is not finite", v.name));
         }
         if let Some(min) = v.min {
             if x < min {
                 return err(format!(
-                    "value {x} {unit} for '{}' is below its minimum {min} {unit}",
+                    "value {x}{unit} for '{}' is below its minimum {min}{unit}",
                     v.name
                 ));
             }
@@ -466,7 +507,7 @@ impl<M: Model> Instance<M> {
         if let Some(max) = v.max {
             if x > max {
                 return err(format!(
-                    "value {x} {unit} for '{}' is above its maximum {max} {unit}",
+                    "value {x}{unit} for '{}' is above its maximum {max}{unit}",
                     v.name
                 ));
             }
@@ -490,6 +531,12 @@ impl<M: Model> Instance<M> {
         }
         for (vr, x) in vrs.iter().zip(values) {
             self.core.store.reals[*vr as usize] = *x;
+        }
+        let [rtol, atol] = tolerance_parameters(&self.info);
+        for (k, p) in [rtol, atol].iter().enumerate() {
+            if p.is_some_and(|(vr, _)| vrs.contains(&vr)) {
+                self.tolerances_set[k] = true;
+            }
         }
         self.after_set();
         Ok(Status::Ok)

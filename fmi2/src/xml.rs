@@ -159,8 +159,12 @@ pub fn model_description(info: &ModelInfo) -> String {
         .collect();
     if !outputs.is_empty() {
         writeln!(x, "    <Outputs>").unwrap();
+        // No output depends directly on an input: this layer changes outputs only in doStep
+        // (after fmi2SetReal of an input in step mode they keep their values until the next
+        // step), so a master sees no algebraic loop between coupled FMUs. (In initialization
+        // mode outputs do follow the inputs: InitialUnknowns keep the default, all dependencies.)
         for i in &outputs {
-            writeln!(x, r#"      <Unknown index="{i}"/>"#).unwrap();
+            writeln!(x, r#"      <Unknown index="{i}" dependencies=""/>"#).unwrap();
         }
         writeln!(x, "    </Outputs>").unwrap();
     }

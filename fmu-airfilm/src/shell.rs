@@ -163,10 +163,10 @@ impl Model for AirFilmFmu {
                 V::real_output("p_max", vr::P_MAX, "Pa", "peak film pressure (absolute)").display("bar"),
                 V::real_output("F_contact", vr::F_CONTACT, "N", "magnitude of the mixed-lubrication contact force (reported even when contact_in_force = false)"),
                 V::integer_parameter("n_lobes", vr::N_LOBES, p.bore.n_lobes as i32, "number of lobes").range(Some(1.0), Some(12.0)),
-                V::integer_parameter("n_elem_phi", vr::N_ELEM_PHI, p.n_elem_phi as i32, "elements along each lobe (paper: 20)")
-                    .range(Some(1.0), Some(2000.0)),
+                V::integer_parameter("n_elem_phi", vr::N_ELEM_PHI, p.n_elem_phi as i32, "elements along each lobe (paper: 20; at least 8 for a plain bore)")
+                    .range(Some(4.0), Some(2000.0)),
                 V::integer_parameter("n_elem_z", vr::N_ELEM_Z, p.n_elem_z as i32, "elements across the half width (paper: 6)")
-                    .range(Some(1.0), Some(500.0)),
+                    .range(Some(2.0), Some(500.0)),
                 V::integer_output("n_substeps", vr::N_SUBSTEPS, "accepted internal sub-steps so far"),
                 V::integer_output("n_newton", vr::N_NEWTON, "Newton iterations so far"),
                 V::integer_output("n_jacobians", vr::N_JACOBIANS, "Jacobian evaluations and factorizations so far"),

@@ -180,8 +180,22 @@ fn non_physical_parameters_are_refused_with_a_reason() {
     exit_init_fails(|s| s.set_real(&[vr::C], &[0.0]).unwrap(), "C");
     exit_init_fails(|s| s.set_real(&[vr::C], &[-1e-6]).unwrap(), "C");
     exit_init_fails(|s| s.set_real(&[vr::PHI_T], &[2.5]).unwrap(), "phi_t");
+    // Below the declared minimum (4 per lobe, 2 across): refused already by fmi2SetInteger, so a
+    // master that trusts the modelDescription's range never reaches a failing initialization.
+    let fmu = load("airfilm");
+    let s = fmu
+        .instantiate("mesh", false, LogBook::default().handler())
+        .unwrap();
+    s.setup_experiment(None, 0.0, None).unwrap();
+    assert!(s.set_integer(&[vr::N_ELEM_PHI], &[3]).is_err());
+    assert!(s.set_integer(&[vr::N_ELEM_Z], &[1]).is_err());
+    // Inside the range but too coarse for a plain bore: refused when initialization ends.
     exit_init_fails(
-        |s| s.set_integer(&[vr::N_ELEM_PHI], &[1]).unwrap(),
+        |s| {
+            s.set_boolean(&[vr::PLAIN_BORE], &[true]).unwrap();
+            s.set_real(&[vr::DH], &[0.0]).unwrap();
+            s.set_integer(&[vr::N_ELEM_PHI], &[4]).unwrap()
+        },
         "n_elem_phi",
     );
     // Absurd magnitudes (before: accepted; r = 1e300 m made a discarded step's forces inf).
@@ -245,4 +259,71 @@ fn start_steady_at_rest_reads_no_force_before_any_input() {
     s.do_step(0.0, 1e-4).unwrap();
     s.get_real(&[vr::FX, vr::FY], &mut f).unwrap();
     assert!(f[0].abs() < 1e-9 && f[1].abs() < 1e-9, "{f:?}");
+}
+
+/// fmi2SetupExperiment's tolerance sets the film's rtol (and atol in proportion) unless the
+/// master sets rtol / atol itself (before: 1e-2, 1e-8 and no tolerance gave bit-identical
+/// forces). Checked against runs given the rtol / atol the rule says.
+#[test]
+fn the_experiment_tolerance_sets_rtol_unless_the_master_sets_it() {
+    let fmu = load("airfilm");
+    let run = |tolerance: Option<f64>, explicit: Option<[f64; 2]>| -> Vec<[f64; 2]> {
+        let book = LogBook::default();
+        let s = fmu.instantiate("tol", false, book.handler()).unwrap();
+        s.setup_experiment(tolerance, 0.0, None).unwrap();
+        s.enter_initialization_mode().unwrap();
+        if let Some([rtol, atol]) = explicit {
+            s.set_real(&[vr::RTOL, vr::ATOL], &[rtol, atol]).unwrap();
+        }
+        set_inputs(&s, 0.0);
+        s.exit_initialization_mode().unwrap();
+        let h = 2e-5;
+        (0..20)
+            .map(|k| {
+                let t = k as f64 * h;
+                set_inputs(&s, t);
+                s.do_step(t, h).unwrap();
+                forces(&s)
+            })
+            .collect()
+    };
+    let d = BearingParams::default();
+    let none = run(None, None);
+    let loose = run(Some(1e-2), None);
+    let tight = run(Some(1e-8), None);
+    assert!(
+        loose != tight && tight != none,
+        "the tolerance changes the result"
+    );
+    // The rule: rtol = tolerance, atol scaled with it from its default.
+    assert_eq!(none, run(None, Some([d.rtol, d.atol_pa])));
+    assert_eq!(tight, run(None, Some([1e-8, d.atol_pa * 1e-8 / d.rtol])));
+    // The master's own rtol / atol win over the tolerance.
+    assert_eq!(
+        run(Some(1e-8), Some([1e-3, 50.0])),
+        run(None, Some([1e-3, 50.0]))
+    );
+}
+
+/// What `dependencies=""` on the outputs declares: an input set in step mode changes no output
+/// before the next doStep (modelDescription's Outputs; model_descriptions.rs).
+#[test]
+fn an_input_set_in_step_mode_changes_no_output_before_the_next_step() {
+    let fmu = load("airfilm");
+    let book = LogBook::default();
+    let s = start(&fmu, &book, "film");
+    set_inputs(&s, 0.0);
+    s.do_step(0.0, 1e-5).unwrap();
+    let outputs = [vr::FX, vr::FY, vr::EPS, vr::H_MIN, vr::P_MAX, vr::F_CONTACT];
+    let mut before = [0.0; 6];
+    s.get_real(&outputs, &mut before).unwrap();
+    s.set_real(&[vr::DX, vr::DY, vr::OMEGA], &[3e-6, -4e-6, 100.0])
+        .unwrap();
+    let mut after = [0.0; 6];
+    s.get_real(&outputs, &mut after).unwrap();
+    assert_eq!(before.map(f64::to_bits), after.map(f64::to_bits));
+    // The next step does take the new inputs.
+    s.do_step(1e-5, 1e-5).unwrap();
+    s.get_real(&outputs, &mut after).unwrap();
+    assert_ne!(before[2], after[2], "eps follows the new journal position");
 }

@@ -64,3 +64,36 @@ fn interface_names_fixed_by_the_spec_exist() {
         assert!(rotor.by_name(name).is_some(), "rotor lacks {name}");
     }
 }
+
+/// Every output declares that it depends directly on no input (`dependencies=""`), so a master
+/// that checks sees no algebraic loop between the rotor and its films (before: no declaration,
+/// which FMI reads as "depends on every input"). fmu_airfilm_abi.rs and fmi_layer.rs check the
+/// behaviour behind it: an input set in step mode changes no output before the next step.
+#[test]
+fn outputs_declare_no_direct_dependency_on_inputs() {
+    for info in [
+        fmu_airfilm::shell::AirFilmFmu::info(),
+        fmu_rotor::shell::RotorFmu::info(),
+    ] {
+        let xml = fmi2::xml::model_description(&info);
+        let outputs = xml
+            .split("<Outputs>")
+            .nth(1)
+            .and_then(|s| s.split("</Outputs>").next())
+            .expect("an Outputs element");
+        let unknowns: Vec<&str> = outputs.lines().filter(|l| l.contains("<Unknown")).collect();
+        let n_outputs = info
+            .variables
+            .iter()
+            .filter(|v| v.causality == fmi2::Causality::Output)
+            .count();
+        assert_eq!(unknowns.len(), n_outputs);
+        for u in unknowns {
+            assert!(
+                u.contains(r#"dependencies="""#),
+                "{}: {u}",
+                info.model_identifier
+            );
+        }
+    }
+}

@@ -42,7 +42,10 @@ fn venv_python() -> Result<PathBuf, String> {
     let py = venv.join("bin").join("python");
     let ready = py.exists()
         && Command::new(&py)
-            .args(["-c", "import fmpy, pytest, numpy"])
+            .args([
+                "-c",
+                "import fmpy, pytest, numpy, libcosimpy, importlib.metadata as m; m.version('ecospy')",
+            ])
             .status()
             .map(|s| s.success())
             .unwrap_or(false);
