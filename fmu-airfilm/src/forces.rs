@@ -26,6 +26,12 @@ pub struct FilmOutputs {
     pub h_min_m: f64,
     /// Peak absolute pressure, Pa.
     pub p_max_pa: f64,
+    /// Friction torque of the film on the journal, against the rotation [N m] (`friction`).
+    #[serde(default)]
+    pub friction_torque_nm: f64,
+    /// Power the film dissipates [W]: friction torque times speed.
+    #[serde(default)]
+    pub power_loss_w: f64,
 }
 
 impl FilmOutputs {
@@ -40,6 +46,8 @@ impl FilmOutputs {
             self.eps,
             self.h_min_m,
             self.p_max_pa,
+            self.friction_torque_nm,
+            self.power_loss_w,
         ]
         .iter()
         .all(|x| x.is_finite())

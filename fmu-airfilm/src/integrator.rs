@@ -695,6 +695,7 @@ pub(crate) fn outputs_for(
     let fc = contact::contact_force_n(&prm.bore, &prm.contact, j, h_min_m);
     let p_max = p.iter().cloned().fold(f64::NEG_INFINITY, f64::max) * prm.p_a_pa;
     let in_force = if prm.contact_in_force { 1.0 } else { 0.0 };
+    let friction_torque_nm = crate::friction::friction_torque(prm, mesh, j, p).total_nm();
     FilmOutputs {
         fx_n: fp[0] + in_force * fc[0],
         fy_n: fp[1] + in_force * fc[1],
@@ -704,6 +705,8 @@ pub(crate) fn outputs_for(
         eps: j.dx_m.hypot(j.dy_m) / prm.bore.c_m,
         h_min_m,
         p_max_pa: p_max,
+        friction_torque_nm,
+        power_loss_w: friction_torque_nm * j.omega_rad_s,
     }
 }
 

@@ -13,6 +13,7 @@ pub mod contact;
 pub mod dynamic;
 pub mod error;
 pub mod forces;
+pub mod friction;
 pub mod geometry;
 pub mod integrator;
 pub mod linsolve;

@@ -33,6 +33,8 @@ pub mod vr {
     pub const H_MIN: u32 = 21;
     pub const P_MAX: u32 = 22;
     pub const F_CONTACT: u32 = 23;
+    pub const FRICTION_TORQUE: u32 = 24;
+    pub const POWER_LOSS: u32 = 25;
     /// Integer value references.
     pub const N_LOBES: u32 = 0;
     pub const N_ELEM_PHI: u32 = 1;
@@ -162,6 +164,8 @@ impl Model for AirFilmFmu {
                 V::real_output("h_min", vr::H_MIN, "m", "minimum gap on the lobes").display("um"),
                 V::real_output("p_max", vr::P_MAX, "Pa", "peak film pressure (absolute)").display("bar"),
                 V::real_output("F_contact", vr::F_CONTACT, "N", "magnitude of the mixed-lubrication contact force (reported even when contact_in_force = false)"),
+                V::real_output("friction_torque", vr::FRICTION_TORQUE, "N.m", "friction torque of the film on the journal, against its rotation: wall shear (Couette and pressure-driven) over the lobes, Couette shear over the pockets (modelled as deep as the step; see the documentation)").display("N.mm"),
+                V::real_output("power_loss", vr::POWER_LOSS, "W", "power the film dissipates: friction_torque * omega"),
                 V::integer_parameter("n_lobes", vr::N_LOBES, p.bore.n_lobes as i32, "number of lobes").range(Some(1.0), Some(12.0)),
                 V::integer_parameter("n_elem_phi", vr::N_ELEM_PHI, p.n_elem_phi as i32, "elements along each lobe (paper: 20; at least 8 for a plain bore)")
                     .range(Some(4.0), Some(2000.0)),
@@ -305,6 +309,8 @@ impl Model for AirFilmFmu {
         store.reals[vr::H_MIN as usize] = o.h_min_m;
         store.reals[vr::P_MAX as usize] = o.p_max_pa;
         store.reals[vr::F_CONTACT as usize] = o.f_contact_n;
+        store.reals[vr::FRICTION_TORQUE as usize] = o.friction_torque_nm;
+        store.reals[vr::POWER_LOSS as usize] = o.power_loss_w;
         let s = self.film.total_stats();
         let clamp = |n: usize| n.min(i32::MAX as usize) as i32;
         store.integers[vr::N_SUBSTEPS as usize] = clamp(s.n_steps);

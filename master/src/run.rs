@@ -333,5 +333,45 @@ fn write_summary(
             }
         }
     }
+    if let Some(files) = power_loss(&mut summary, recorded, rows, &opts.out_dir) {
+        summary.plots.get_or_insert_with(Vec::new).extend(files);
+    }
     summary.write(&opts.out_dir)
+}
+
+/// The films' friction power loss into the summary (and its figure), if the run recorded the
+/// rotor speed and both films' `power_loss`; returns the figure files written.
+fn power_loss(
+    summary: &mut RunSummary,
+    recorded: &[Recorded],
+    rows: &[Vec<f64>],
+    out_dir: &Path,
+) -> Option<Vec<String>> {
+    let cols = [
+        column(recorded, "rotor.omega")?,
+        column(recorded, "film_C.power_loss")?,
+        column(recorded, "film_T.power_loss")?,
+    ];
+    let get = |k: usize| rows.iter().map(|r| r[k]).collect::<Vec<f64>>();
+    let t = get(0);
+    let speed: Vec<f64> = get(cols[0])
+        .iter()
+        .map(|w| w / std::f64::consts::TAU)
+        .collect();
+    let (pc, pt) = (get(cols[1]), get(cols[2]));
+    summary.power_loss_w = crate::analysis::power_loss_summary(&t, &speed, &pc, &pt);
+    summary.power_loss_w.as_ref()?;
+    match crate::plot::plot_power_loss(&speed, &pc, &pt, out_dir) {
+        Ok(files) => Some(
+            files
+                .iter()
+                .filter_map(|f| f.file_name())
+                .map(|f| f.to_string_lossy().into_owned())
+                .collect(),
+        ),
+        Err(e) => {
+            summary.plot_error.get_or_insert(e.to_string());
+            None
+        }
+    }
 }

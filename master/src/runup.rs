@@ -536,6 +536,11 @@ pub const RECORDED: &[&str] = &[
     // Contact force magnitudes (reported by the films whichever side evaluates the contact).
     "film_C.F_contact",
     "film_T.F_contact",
+    // Friction of the films (wall shear): torque on the journal and dissipated power.
+    "film_C.friction_torque",
+    "film_T.friction_torque",
+    "film_C.power_loss",
+    "film_T.power_loss",
 ];
 
 /// Default macro step and polynomial orders (see docs/convergence.md for the study behind them).

@@ -75,6 +75,9 @@ pub struct RunSummary {
     pub first_bearing: Option<String>,
     pub criteria: Option<String>,
     pub whirl: Option<serde_json::Value>,
+    /// Friction power loss of the films [W]: at the quoted speeds and at most (run-ups whose
+    /// films report `power_loss`).
+    pub power_loss_w: Option<crate::analysis::PowerLossSummary>,
     /// File names of the figures written into the run folder.
     pub plots: Option<Vec<String>>,
     pub plot_error: Option<String>,

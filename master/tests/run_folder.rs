@@ -145,6 +145,51 @@ fn a_run_shorter_than_the_persistence_window_is_too_short_to_classify() {
         .as_str()
         .unwrap()
         .contains("less than the 0.1 s"));
+    // The films' friction: the largest power loss (no quoted speed reached in 4 ms), its figure,
+    // and power_loss = friction_torque * omega in the series.
+    let max = &summary["power_loss_w"]["max"];
+    assert!(
+        max["total_w"].as_f64().is_some_and(|p| p > 0.0),
+        "{summary}"
+    );
+    assert_eq!(
+        summary["power_loss_w"]["at_speeds"]
+            .as_array()
+            .map(Vec::len),
+        Some(0)
+    );
+    let plots: Vec<&str> = summary["plots"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p.as_str().unwrap())
+        .collect();
+    assert!(
+        plots.contains(&"power_loss.svg") && dir.join("power_loss.png").exists(),
+        "{plots:?}"
+    );
+    let csv = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
+    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
+    let col = |name: &str| {
+        header
+            .iter()
+            .position(|h| h.starts_with(&format!("{name} [")))
+            .unwrap()
+    };
+    let (torque, power) = (col("film_C.friction_torque"), col("film_C.power_loss"));
+    let last: Vec<f64> = csv
+        .lines()
+        .last()
+        .unwrap()
+        .split(',')
+        .map(|v| v.parse().unwrap())
+        .collect();
+    let omega = last[col("rotor.omega")];
+    assert!(last[power] > 0.0);
+    assert!(
+        (last[power] - last[torque] * omega).abs() <= 1e-9 * last[power],
+        "{last:?}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -128,6 +128,16 @@ fn stability_command_writes_report_and_figures() {
             assert!((dx.hypot(dy) / 20.0 - eps).abs() < 1e-9, "{b}");
         }
     }
+    // The films' friction at the equilibria: power = torque * omega, growing with speed (at
+    // least linearly: Petroff's torque alone grows with speed).
+    let loss = |k: usize| speeds[k]["bearings"][0]["power_loss_w"].as_f64().unwrap();
+    for (k, sp) in speeds.iter().enumerate() {
+        let b = &sp["bearings"][0];
+        let omega = std::f64::consts::TAU * sp["speed_hz"].as_f64().unwrap();
+        let torque_nm = b["friction_torque_nmm"].as_f64().unwrap() * 1e-3;
+        assert!((loss(k) - torque_nm * omega).abs() <= 1e-9 * loss(k), "{b}");
+    }
+    assert!(loss(0) > 0.0 && loss(1) > 3.0 * loss(0) && loss(2) > 1.6 * loss(1));
     // Oscillating modes per speed: a Campbell line per mode rank, broken where a speed has
     // fewer modes (overdamped there), so the lines hold exactly the modes of stability.json.
     let per_speed: Vec<usize> = speeds

@@ -45,17 +45,14 @@ const FMI2_FUNCTIONS: [&str; 34] = [
 ];
 
 /// The FMU's binary, unpacked into a temporary folder that is removed on drop.
-struct Unpacked(std::path::PathBuf, std::path::PathBuf);
-
-impl Drop for Unpacked {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
+struct Unpacked(
+    #[allow(dead_code)] fmi2::importer::UnpackedDir,
+    std::path::PathBuf,
+);
 
 fn unpacked_so(id: &str) -> Unpacked {
     let dir = fmi2::importer::unpack(&fmu_path(id)).unwrap();
-    let so = dir.join(format!("binaries/linux64/{id}.so"));
+    let so = dir.path().join(format!("binaries/linux64/{id}.so"));
     Unpacked(dir, so)
 }
 

@@ -6,9 +6,26 @@ use std::sync::atomic::{AtomicU64, Ordering};
 
 static COUNTER: AtomicU64 = AtomicU64::new(0);
 
+/// A folder an FMU archive was unpacked into: removed when dropped, on every path (a load that
+/// fails half-way, a panic, or the end of the `Fmu` that owns it).
+#[derive(Debug)]
+pub struct UnpackedDir(PathBuf);
+
+impl UnpackedDir {
+    pub fn path(&self) -> &Path {
+        &self.0
+    }
+}
+
+impl Drop for UnpackedDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
 /// Unpacks the archive into a new folder under the system temp dir and returns it. Entries that would
 /// escape the folder (`..`, absolute paths) are refused.
-pub fn unpack(fmu: &Path) -> Result<PathBuf, ImportError> {
+pub fn unpack(fmu: &Path) -> Result<UnpackedDir, ImportError> {
     let err = |e: &dyn std::fmt::Display| ImportError(format!("{}: {e}", fmu.display()));
     let file = std::fs::File::open(fmu).map_err(|e| err(&e))?;
     let mut zip =
@@ -19,12 +36,10 @@ pub fn unpack(fmu: &Path) -> Result<PathBuf, ImportError> {
     if dir.exists() {
         std::fs::remove_dir_all(&dir).map_err(|e| err(&e))?;
     }
-    let extracted = extract(&mut zip, &dir, &err);
-    if extracted.is_err() {
-        // A half-unpacked archive does not stay behind in the temporary folder.
-        let _ = std::fs::remove_dir_all(&dir);
-    }
-    extracted.map(|()| dir)
+    // From here on the guard removes the folder unless it is handed out whole.
+    let guard = UnpackedDir(dir);
+    extract(&mut zip, &guard.0, &err)?;
+    Ok(guard)
 }
 
 /// Writes every entry of `zip` below `dir`, refusing paths that leave it.

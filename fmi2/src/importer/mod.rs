@@ -8,7 +8,7 @@ mod description;
 mod library;
 mod slave;
 
-pub use archive::unpack;
+pub use archive::{unpack, UnpackedDir};
 pub use description::{ModelDescription, ScalarVariable, UnitInfo};
 pub use library::Api;
 pub use slave::{CallError, FmuState, LogHandler, LogRecord, Slave};
@@ -30,33 +30,34 @@ impl std::error::Error for ImportError {}
 /// A loaded FMU: its description and its shared library. Instances are created with `instantiate`.
 pub struct Fmu {
     pub path: PathBuf,
-    /// Unpacked folder (removed on drop when we created it).
+    /// Unpacked folder.
     pub dir: PathBuf,
-    owns_dir: bool,
     pub description: ModelDescription,
     pub api: Arc<Api>,
+    /// The folder, when this `Fmu` unpacked it: removed when the `Fmu` is dropped (declared last,
+    /// so the library is released first).
+    _unpacked: Option<UnpackedDir>,
 }
 
 impl Fmu {
     /// Loads a `.fmu` archive (unpacked into a fresh temporary folder) or an unpacked FMU folder.
     pub fn load(path: &Path) -> Result<Fmu, ImportError> {
-        let (dir, owns_dir) = if path.is_dir() {
-            (path.to_path_buf(), false)
+        // A failed (or panicking) load drops the guard: nothing stays in the temporary folder.
+        let unpacked = if path.is_dir() {
+            None
         } else {
-            (unpack(path)?, true)
+            Some(unpack(path)?)
         };
-        let opened = Self::open_unpacked(path, &dir);
-        if opened.is_err() && owns_dir {
-            // Nothing of a failed load stays behind in the temporary folder.
-            let _ = std::fs::remove_dir_all(&dir);
-        }
-        let (description, api) = opened?;
+        let dir = unpacked
+            .as_ref()
+            .map_or_else(|| path.to_path_buf(), |u| u.path().to_path_buf());
+        let (description, api) = Self::open_unpacked(path, &dir)?;
         Ok(Fmu {
             path: path.to_path_buf(),
             dir,
-            owns_dir,
             description,
             api,
+            _unpacked: unpacked,
         })
     }
 
@@ -99,13 +100,5 @@ impl Fmu {
             logging_on,
             log,
         )
-    }
-}
-
-impl Drop for Fmu {
-    fn drop(&mut self) {
-        if self.owns_dir {
-            let _ = std::fs::remove_dir_all(&self.dir);
-        }
     }
 }

@@ -7,6 +7,7 @@
 pub mod classify;
 pub mod csv_series;
 pub mod onset;
+pub mod power;
 pub mod series;
 pub mod spectrum;
 #[cfg(test)]
@@ -16,5 +17,6 @@ mod tests;
 
 pub use classify::{classify, Classification, RunClass, WhirlSample};
 pub use csv_series::{load_run, series_from_csv};
+pub use power::{power_loss_summary, PowerLossSummary};
 pub use series::{Bearing, RunSeries};
 pub use spectrum::{spectrogram, Spectrogram};

@@ -94,6 +94,44 @@ pub fn eps(series: &RunSeries, class: &Classification) -> Canvas {
     )
 }
 
+/// Friction power loss of both films and their sum against speed.
+pub fn power_loss(speed_hz: &[f64], p_c_w: &[f64], p_t_w: &[f64]) -> Canvas {
+    let total: Vec<f64> = p_c_w.iter().zip(p_t_w).map(|(a, b)| a + b).collect();
+    let mut c = Canvas::new(W, H);
+    let ax = Axes::standard(W, H, range(&[speed_hz]), range(&[p_c_w, p_t_w, &total]));
+    ax.draw(
+        &mut c,
+        "Friction power loss of the air films",
+        "speed [Hz]",
+        "P [W]",
+    );
+    let buckets = ax.width as usize;
+    let lines = [
+        (p_c_w, "bearing C", Rgb::BLUE),
+        (p_t_w, "bearing T", Rgb::RED),
+        (&total[..], "both", Rgb::BLACK),
+    ];
+    for (ys, name, color) in lines {
+        c.polyline(
+            ax.map_all(decimate_minmax(speed_hz, ys, buckets)),
+            color,
+            1.2,
+            false,
+            Role::Series,
+            name,
+        );
+    }
+    ax.legend(
+        &mut c,
+        &[
+            ("bearing C", Rgb::BLUE),
+            ("bearing T", Rgb::RED),
+            ("both", Rgb::BLACK),
+        ],
+    );
+    c
+}
+
 pub fn y_journal(series: &RunSeries, class: &Classification) -> Canvas {
     let yc: Vec<f64> = series.y_jc_m.iter().map(|v| v * 1e6).collect();
     let yt: Vec<f64> = series.y_jt_m.iter().map(|v| v * 1e6).collect();

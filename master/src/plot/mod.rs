@@ -40,5 +40,15 @@ pub fn plot_runup(
     Ok(out)
 }
 
+/// Write the friction power-loss figure (`power_loss.svg`, `.png`) into `out_dir`.
+pub fn plot_power_loss(
+    speed_hz: &[f64],
+    p_c_w: &[f64],
+    p_t_w: &[f64],
+    out_dir: &Path,
+) -> std::io::Result<Vec<PathBuf>> {
+    figures::power_loss(speed_hz, p_c_w, p_t_w).save(out_dir, "power_loss")
+}
+
 #[cfg(test)]
 mod tests;

@@ -43,16 +43,21 @@ fn print_table(s: &RunupSettings, r: &StabilityReport) {
         "exponent Int Re(lambda) dt accumulated along a run-up at {:.1} Hz/s",
         r.ramp_hz_per_s
     );
-    print!("{:>7} {:>6} {:>6} {:>6} |", "speed", "eps_C", "eps_T", "N");
+    println!("P_C, P_T: friction power loss of each film at its static equilibrium [W]");
+    print!(
+        "{:>7} {:>6} {:>6} {:>7} {:>7} {:>6} |",
+        "speed", "eps_C", "eps_T", "P_C", "P_T", "N"
+    );
     let n_ranks = r.speeds.iter().map(|s| s.modes.len()).max().unwrap_or(0);
     for k in 0..n_ranks {
         print!(" {:>15}", format!("mode {}", k + 1));
     }
     println!();
     for (sp, n) in r.speeds.iter().zip(&r.growth_exponent) {
+        let [c, t] = &sp.bearings;
         print!(
-            "{:7.1} {:6.3} {:6.3} {:6.1} |",
-            sp.speed_hz, sp.bearings[0].eps, sp.bearings[1].eps, n
+            "{:7.1} {:6.3} {:6.3} {:7.2} {:7.2} {:6.1} |",
+            sp.speed_hz, c.eps, t.eps, c.power_loss_w, t.power_loss_w, n
         );
         for m in &sp.modes {
             let w = if m.whirl == "forward" { 'F' } else { 'B' };

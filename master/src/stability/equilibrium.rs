@@ -40,6 +40,10 @@ pub struct BearingEquilibrium {
     pub load_n: [f64; 2],
     pub h_min_um: f64,
     pub p_max_kpa: f64,
+    /// Friction torque of the film on the journal [N mm] and the power it dissipates [W]
+    /// (wall shear, `fmu_airfilm::friction`).
+    pub friction_torque_nmm: f64,
+    pub power_loss_w: f64,
     /// Absolute ring and journal centres [um].
     pub ring_um: [f64; 2],
     pub journal_um: [f64; 2],
@@ -152,6 +156,8 @@ fn finish(
         load_n,
         h_min_um: o.h_min_m * 1e6,
         p_max_kpa: o.p_max_pa * 1e-3,
+        friction_torque_nmm: o.friction_torque_nm * 1e3,
+        power_loss_w: o.power_loss_w,
         ring_um: [ring[0] * 1e6, ring[1] * 1e6],
         journal_um: [(ring[0] + j.dx_m) * 1e6, (ring[1] + j.dy_m) * 1e6],
         k_static_n_per_mm: [
