@@ -1,7 +1,7 @@
 //! `airring stability`: flags (as the run-up's), the printed Campbell table, stability.json and
 //! the figures (Campbell, damping, journal locus, eccentricity).
 
-use super::{analyse, parse_speeds, StabilityReport};
+use super::{analyse_with_equilibria, parse_speeds, StabilityReport};
 use crate::runup::RunupSettings;
 use std::path::PathBuf;
 
@@ -16,13 +16,76 @@ pub struct StabilityArgs {
     /// Output folder for stability.json and the diagrams.
     #[arg(long)]
     pub out: Option<PathBuf>,
+    /// Compressor-wheel imbalance "mass_g,radius_mm,phase_deg": adds the unbalance response
+    /// (amplitude and phase of journals and rings, critical speeds) to the report.
+    #[arg(long, allow_hyphen_values = true)]
+    pub unbalance_c: Option<String>,
+    /// Turbine-wheel imbalance "mass_g,radius_mm,phase_deg" (see --unbalance-c).
+    #[arg(long, allow_hyphen_values = true)]
+    pub unbalance_t: Option<String>,
 }
 
-/// The run-up settings these flags describe (preset, design file, then overrides).
+/// The run-up settings these flags describe (preset, design file, then overrides; the
+/// imbalance of --unbalance-c / --unbalance-t).
 pub fn settings(a: &StabilityArgs) -> Result<RunupSettings, String> {
-    let s = a.bearing.settings()?;
+    let mut s = a.bearing.settings()?;
+    if let Some(t) = &a.unbalance_c {
+        s.imbalance_c = super::unbalance::parse_imbalance(t, "unbalance-c")?;
+    }
+    if let Some(t) = &a.unbalance_t {
+        s.imbalance_t = super::unbalance::parse_imbalance(t, "unbalance-t")?;
+    }
     s.validate()?;
     Ok(s)
+}
+
+fn print_unbalance(u: &super::unbalance::UnbalanceReport) {
+    let (c, t) = (u.imbalance_c, u.imbalance_t);
+    println!(
+        "unbalance response: compressor {} g at {} mm, {} deg; turbine {} g at {} mm, {} deg",
+        c.0, c.1, c.2, t.0, t.1, t.2
+    );
+    println!(
+        "orbit semi-major axes [um] (journals, rings, journal relative to ring); x phase [deg]"
+    );
+    println!(
+        "{:>7} {:>8} {:>8} {:>8} {:>8} {:>8} {:>8} {:>7} {:>7}",
+        "speed", "J_C", "J_T", "R_C", "R_T", "film_C", "film_T", "ph J_C", "ph J_T"
+    );
+    for p in &u.points {
+        println!(
+            "{:7.1} {:8.4} {:8.4} {:8.4} {:8.4} {:8.4} {:8.4} {:7.1} {:7.1}{}",
+            p.speed_hz,
+            p.journal_c.semi_major_um,
+            p.journal_t.semi_major_um,
+            p.ring_c.semi_major_um,
+            p.ring_t.semi_major_um,
+            p.film_c_um,
+            p.film_t_um,
+            p.journal_c.x_phase_deg,
+            p.journal_t.x_phase_deg,
+            if p.unstable {
+                "  (linearly unstable here)"
+            } else {
+                ""
+            }
+        );
+    }
+    if u.critical_speeds.is_empty() {
+        println!("no critical speed (response peak) inside the speed range");
+    }
+    for cs in &u.critical_speeds {
+        println!(
+            "critical speed {:.1} Hz (journal {}): {:.4} um, amplification factor {}",
+            cs.speed_hz,
+            cs.journal,
+            cs.peak_um,
+            cs.amplification_factor.map_or(
+                "n/a (half-power points outside the range)".to_string(),
+                |q| { format!("{q:.2}") }
+            )
+        );
+    }
 }
 
 fn print_table(s: &RunupSettings, r: &StabilityReport) {
@@ -118,8 +181,21 @@ fn print_table(s: &RunupSettings, r: &StabilityReport) {
 pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
     let s = settings(a)?;
     let speeds = parse_speeds(&a.speeds)?;
-    let r = analyse(&s, &speeds)?;
+    let (r, solved) = analyse_with_equilibria(&s, &speeds)?;
     print_table(&s, &r);
+    let unbalance = if a.unbalance_c.is_some() || a.unbalance_t.is_some() {
+        let (rotor, _) = super::params_of(&s)?;
+        let u = super::unbalance::unbalance_report(
+            &rotor,
+            [s.imbalance_c, s.imbalance_t],
+            &r.speeds,
+            &solved,
+        )?;
+        print_unbalance(&u);
+        Some(u)
+    } else {
+        None
+    };
     let v = serde_json::json!({
         "settings": {
             "preset": s.preset, "c_n_per_mm": s.c_n_per_mm, "d_n_s_per_m": s.d_n_s_per_m,
@@ -129,6 +205,7 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
             "nu_grid_hz": super::campbell::GRID_HZ,
         },
         "report": r,
+        "unbalance": unbalance,
     });
     if let Some(dir) = &a.out {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -137,7 +214,10 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
             .map_err(|e| format!("{}: {e}", path.display()))?;
         // Both films share the bore unless --set gives film_T another one: draw bearing C's.
         let lobes = super::params_of(&s)?.1[0].bore.clone();
-        let figs = super::figures::save(&r, &lobes, dir).map_err(|e| e.to_string())?;
+        let mut figs = super::figures::save(&r, &lobes, dir).map_err(|e| e.to_string())?;
+        if let Some(u) = &unbalance {
+            figs.extend(super::figures::save_unbalance(u, dir).map_err(|e| e.to_string())?);
+        }
         println!("wrote {} and {} figure files", path.display(), figs.len());
     }
     Ok(v)

@@ -249,3 +249,91 @@ pub fn save(r: &StabilityReport, lobes: &Bore, dir: &Path) -> std::io::Result<Ve
     out.extend(eccentricity(r).save(dir, "eccentricity")?);
     Ok(out)
 }
+
+/// Bode plots of the unbalance response: the orbits' semi-major axes of the journals and rings
+/// against speed (with the critical speeds marked), and the phase of the journals' x motion.
+pub fn save_unbalance(
+    u: &super::unbalance::UnbalanceReport,
+    dir: &Path,
+) -> std::io::Result<Vec<PathBuf>> {
+    let f: Vec<f64> = u.points.iter().map(|p| p.speed_hz).collect();
+    let xr = range(f.iter().copied());
+    let series: [(&str, Rgb, Vec<f64>); 4] = [
+        (
+            "journal C",
+            PALETTE[0],
+            u.points.iter().map(|p| p.journal_c.semi_major_um).collect(),
+        ),
+        (
+            "journal T",
+            PALETTE[3],
+            u.points.iter().map(|p| p.journal_t.semi_major_um).collect(),
+        ),
+        (
+            "ring C",
+            PALETTE[2],
+            u.points.iter().map(|p| p.ring_c.semi_major_um).collect(),
+        ),
+        (
+            "ring T",
+            PALETTE[1],
+            u.points.iter().map(|p| p.ring_t.semi_major_um).collect(),
+        ),
+    ];
+    let yr = range(series.iter().flat_map(|s| s.2.iter().copied()));
+    let mut c = Canvas::new(W, H);
+    let ax = Axes::standard(W, H, xr, (0.0, yr.1.max(1e-9) * 1.05));
+    ax.draw(
+        &mut c,
+        "Unbalance response: orbit semi-major axis",
+        "rotor speed [Hz]",
+        "amplitude [um]",
+    );
+    for (name, color, a) in &series {
+        let pts = f.iter().copied().zip(a.iter().copied());
+        c.polyline(ax.map_all(pts), *color, 1.8, false, Role::Series, name);
+    }
+    for cs in &u.critical_speeds {
+        let (px, _) = ax.map(cs.speed_hz, ax.y.0);
+        c.polyline(
+            vec![(px, ax.top), (px, ax.top + ax.height)],
+            Rgb::BLACK,
+            1.0,
+            true,
+            Role::Marker,
+            "critical speed",
+        );
+    }
+    let legend: Vec<(&str, Rgb)> = series.iter().map(|s| (s.0, s.1)).collect();
+    ax.legend(&mut c, &legend);
+    let mut out = c.save(dir, "unbalance_amplitude")?;
+
+    let phases: [(&str, Rgb, Vec<f64>); 2] = [
+        (
+            "journal C",
+            PALETTE[0],
+            u.points.iter().map(|p| p.journal_c.x_phase_deg).collect(),
+        ),
+        (
+            "journal T",
+            PALETTE[3],
+            u.points.iter().map(|p| p.journal_t.x_phase_deg).collect(),
+        ),
+    ];
+    let mut c = Canvas::new(W, H);
+    let ax = Axes::standard(W, H, xr, (-180.0, 180.0));
+    ax.draw(
+        &mut c,
+        "Unbalance response: phase of the journals' x motion",
+        "rotor speed [Hz]",
+        "phase [deg]",
+    );
+    for (name, color, a) in &phases {
+        let pts = f.iter().copied().zip(a.iter().copied());
+        c.polyline(ax.map_all(pts), *color, 1.8, false, Role::Series, name);
+    }
+    let legend: Vec<(&str, Rgb)> = phases.iter().map(|s| (s.0, s.1)).collect();
+    ax.legend(&mut c, &legend);
+    out.extend(c.save(dir, "unbalance_phase")?);
+    Ok(out)
+}

@@ -10,6 +10,7 @@ pub mod campbell;
 pub mod cli;
 pub mod equilibrium;
 pub mod figures;
+pub mod unbalance;
 
 use crate::runup::RunupSettings;
 use campbell::{system_modes, ModeResult};
@@ -164,6 +165,15 @@ fn analyse_speed(
 
 /// Campbell data over `speeds_hz` (ascending, > 0) and the threshold speed of instability.
 pub fn analyse(s: &RunupSettings, speeds_hz: &[f64]) -> Result<StabilityReport, String> {
+    analyse_with_equilibria(s, speeds_hz).map(|(r, _)| r)
+}
+
+/// `analyse`, also returning the equilibria of the grid speeds (in the report's order), which
+/// the unbalance response linearizes about.
+pub fn analyse_with_equilibria(
+    s: &RunupSettings,
+    speeds_hz: &[f64],
+) -> Result<(StabilityReport, Vec<[SolvedBearing; 2]>), String> {
     let t0 = std::time::Instant::now();
     let (rotor, films) = params_of(s)?;
     rotor.validate().map_err(|e| format!("rotor: {e}"))?;
@@ -250,14 +260,15 @@ pub fn analyse(s: &RunupSettings, speeds_hz: &[f64]) -> Result<StabilityReport, 
         }
     }
     let ramp_hz_per_s = s.f_max_hz / s.t_ramp_s;
-    Ok(StabilityReport {
+    let report = StabilityReport {
         growth_exponent: growth_exponent(&speeds, ramp_hz_per_s),
         ramp_hz_per_s,
         speeds,
         threshold,
         unstable_at_first_speed,
         wall_time_s: t0.elapsed().as_secs_f64(),
-    })
+    };
+    Ok((report, solved))
 }
 
 /// "from:to:step" [Hz] -> the speed grid (inclusive of `to` within rounding).
