@@ -11,6 +11,7 @@ pub mod orbit;
 pub mod out_folder;
 pub mod output;
 pub mod plot;
+pub mod report;
 pub mod run;
 pub mod run_folder;
 pub mod runup;

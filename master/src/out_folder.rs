@@ -20,7 +20,7 @@ const RUN_FILES: &[&str] = &[
 
 /// Outputs of a finished run that a new run in the same folder would not rewrite (the series
 /// and the system file are rewritten anyway; the checkpoint is removed by the library).
-const STALE_FILES: &[&str] = &["summary.json", "timeseries.parquet"];
+const STALE_FILES: &[&str] = &["summary.json", "timeseries.parquet", "report.html"];
 
 /// True if `dir` holds (part of) a run.
 pub fn holds_run(dir: &Path) -> bool {

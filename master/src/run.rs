@@ -336,7 +336,12 @@ fn write_summary(
     if let Some(files) = power_loss(&mut summary, recorded, rows, &opts.out_dir) {
         summary.plots.get_or_insert_with(Vec::new).extend(files);
     }
-    summary.write(&opts.out_dir)
+    summary.write(&opts.out_dir)?;
+    // The page is a view of the summary: failing to write it loses nothing, so it is a warning.
+    if let Err(e) = crate::report::write_run_report(&opts.out_dir, &summary) {
+        eprintln!("warning: report.html: {e}");
+    }
+    Ok(())
 }
 
 /// The films' friction power loss into the summary (and its figure), if the run recorded the

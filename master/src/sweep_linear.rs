@@ -196,6 +196,8 @@ pub fn predict(
             max_eps_t: None,
             wall_time_s: Some(p.wall_time_s),
             settings: settings.unwrap_or_default(),
+            // A prediction has no run folder.
+            dir: std::path::PathBuf::new(),
         });
         if !quiet {
             let what = match (&p.error, p.unstable_below_grid) {

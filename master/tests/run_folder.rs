@@ -190,6 +190,22 @@ fn a_run_shorter_than_the_persistence_window_is_too_short_to_classify() {
         (last[power] - last[torque] * omega).abs() <= 1e-9 * last[power],
         "{last:?}"
     );
+    // One page with all of it: class, criteria, power loss, every figure inline, the data files.
+    let n_svg = plots.iter().filter(|p| p.ends_with(".svg")).count();
+    assert!(n_svg >= 7, "{plots:?}");
+    let links = check_report(
+        &dir,
+        n_svg,
+        &["too_short", "Friction power loss", "clearance C / T"],
+    );
+    for f in [
+        "timeseries.csv",
+        "summary.json",
+        "system.toml",
+        "power_loss.png",
+    ] {
+        assert!(links.iter().any(|l| l == f), "{f} not linked: {links:?}");
+    }
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -388,4 +404,41 @@ fn an_orbit_step_too_small_for_memory_is_refused() {
     let (ok, err) = airring(&["orbit", "--input", i, "--out", o, "--step", "100"], &[]);
     assert!(ok, "{err}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A report.html is well-formed XHTML, self-contained (no resource from the network: every
+/// `href`/`src` is a relative file that exists), inlines `n_figures` SVG figures and mentions
+/// every string of `must_show`. Returns the relative links.
+pub fn check_report(dir: &Path, n_figures: usize, must_show: &[&str]) -> Vec<String> {
+    let text = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    let doc = roxmltree::Document::parse_with_options(
+        &text,
+        roxmltree::ParsingOptions {
+            allow_dtd: true,
+            ..Default::default()
+        },
+    )
+    .unwrap_or_else(|e| panic!("report.html is not well-formed: {e}"));
+    let svgs = doc
+        .descendants()
+        .filter(|n| n.tag_name().name() == "svg")
+        .count();
+    assert_eq!(svgs, n_figures, "inline figures");
+    let mut links = vec![];
+    for n in doc.descendants() {
+        for a in ["href", "src"] {
+            if let Some(v) = n.attribute(a) {
+                assert!(!v.contains("://"), "external resource {v}");
+                if n.tag_name().name() == "a" {
+                    let path = dir.join(v.replace("%20", " "));
+                    assert!(path.exists(), "link to missing {}", path.display());
+                    links.push(v.to_string());
+                }
+            }
+        }
+    }
+    for s in must_show {
+        assert!(text.contains(s), "report.html lacks '{s}'");
+    }
+    links
 }

@@ -77,6 +77,31 @@ fn smoke_study_runs_resumes_and_shards_merge() {
     }
     let svg = std::fs::read_to_string(full.join("bifurcation_map.svg")).unwrap();
     assert!(svg.contains(">c [N/mm]<") && svg.contains(">1000<") && svg.contains(">500<"));
+    // The sweep's page: well-formed, the map inline, the table and every run's own page linked,
+    // nothing from the network.
+    let page = std::fs::read_to_string(full.join("report.html")).unwrap();
+    let doc = roxmltree::Document::parse_with_options(
+        &page,
+        roxmltree::ParsingOptions {
+            allow_dtd: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(doc.descendants().any(|n| n.tag_name().name() == "svg"));
+    let links: Vec<&str> = doc
+        .descendants()
+        .filter_map(|n| n.attribute("href"))
+        .collect();
+    assert!(links.contains(&"study.csv"), "{links:?}");
+    for l in &links {
+        assert!(!l.contains("://") && full.join(l).exists(), "{l}");
+    }
+    assert_eq!(
+        links.iter().filter(|l| l.ends_with("/report.html")).count(),
+        4,
+        "{links:?}"
+    );
     let summary = full.join("runs/C20_dH40_c1000_d500/summary.json");
     let mtime = std::fs::metadata(&summary).unwrap().modified().unwrap();
 

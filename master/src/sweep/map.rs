@@ -379,6 +379,7 @@ mod tests {
             max_eps_t: None,
             wall_time_s: None,
             settings: serde_json::Value::Null,
+            dir: Default::default(),
         };
         assert_eq!(
             cell_style(&rec("failed", Some("path2b"), Some(1.1))).1,
@@ -422,6 +423,7 @@ mod tests {
                 max_eps_t: None,
                 wall_time_s: None,
                 settings: serde_json::Value::Null,
+                dir: Default::default(),
             }
         };
         let records = [

@@ -421,6 +421,16 @@ pub fn sweep(study: &Study, study_text: &str, opts: &SweepOptions) -> Result<Swe
     report.maps.extend(
         plot_grid_maps(&records, study, &opts.out, &map).map_err(|e| format!("maps: {e}"))?,
     );
+    let page = crate::report::write_sweep_report(
+        &opts.out,
+        &study.name,
+        &report.table,
+        &report.maps,
+        &records,
+    );
+    if let Err(e) = page {
+        eprintln!("warning: report.html: {e}");
+    }
     if opts.stop.load(Ordering::Relaxed) {
         eprintln!("sweep interrupted: run the same command again to continue");
     }

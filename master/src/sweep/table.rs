@@ -21,6 +21,8 @@ pub struct RunRecord {
     pub max_eps_t: Option<f64>,
     pub wall_time_s: Option<f64>,
     pub settings: serde_json::Value,
+    /// The run folder (its report.html is linked from the sweep's).
+    pub dir: PathBuf,
 }
 
 impl RunRecord {
@@ -71,6 +73,7 @@ pub fn collect(dirs: &[PathBuf]) -> Vec<RunRecord> {
                 max_eps_t: s.as_ref().and_then(|s| s.max_eps_t),
                 wall_time_s: s.as_ref().and_then(|s| s.wall_time_s),
                 settings: s.map(|s| s.settings).unwrap_or_default(),
+                dir: dir.clone(),
             };
             match by_name.get(&rec.name) {
                 Some(old) if old.status == "completed" || rec.status != "completed" => {}
@@ -147,11 +150,17 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(PathBuf, Vec<PathBuf>, usi
         .iter()
         .map(|d| d.join("study.toml"))
         .find_map(|p| Study::load(&p).ok());
+    let title = study
+        .as_ref()
+        .map_or("(merged)".to_string(), |s| s.name.clone());
     if let Some(study) = study {
         maps.extend(
             plot_grid_maps(&records, &study, out, "bifurcation_map")
                 .map_err(|e| format!("maps: {e}"))?,
         );
+    }
+    if let Err(e) = crate::report::write_sweep_report(out, &title, &table, &maps, &records) {
+        eprintln!("warning: report.html: {e}");
     }
     Ok((table, maps, records.len()))
 }

@@ -1,0 +1,317 @@
+//! `report.html`: one page per run folder and per sweep folder that shows what happened, readable
+//! in any browser without a network: the figures are inlined (their SVG text), the data files are
+//! linked relatively. Written whenever `summary.json` is (also for failed and interrupted runs) and
+//! at the end of every sweep and merge. The page is well-formed XHTML (tests parse it as XML).
+
+use crate::summary::RunSummary;
+use crate::sweep::RunRecord;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+/// Escapes text for HTML content and attribute values.
+pub fn escape(s: &str) -> String {
+    let mut out = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&#39;"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// A file name or relative path as a link target (each component percent-encoded where needed).
+fn href(rel: &str) -> String {
+    let mut out = String::new();
+    for b in rel.bytes() {
+        match b {
+            b'A'..=b'Z' | b'a'..=b'z' | b'0'..=b'9' | b'-' | b'_' | b'.' | b'/' | b'~' => {
+                out.push(b as char)
+            }
+            _ => {
+                let _ = write!(out, "%{b:02X}");
+            }
+        }
+    }
+    out
+}
+
+const STYLE: &str = "body{font-family:sans-serif;max-width:1000px;margin:2em auto;padding:0 1em;\
+color:#222}table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #ccc;padding:3px 8px;\
+text-align:left;font-size:90%}th{background:#f0f0f0}.figure{margin:1.5em 0}.figure svg{max-width:100%;\
+height:auto}.class{font-size:130%;font-weight:bold}.note{color:#a33}code{background:#f4f4f4}";
+
+fn page(title: &str, body: &str) -> String {
+    format!(
+        "<!DOCTYPE html>\n<html xmlns=\"http://www.w3.org/1999/xhtml\" lang=\"en\">\n<head>\n\
+         <meta charset=\"utf-8\"/>\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n{body}\
+         </body>\n</html>\n",
+        escape(title)
+    )
+}
+
+/// The SVG text of a figure file, without its XML declaration, to inline in the page.
+fn inline_svg(path: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let start = text.find("<svg")?;
+    Some(text[start..].to_string())
+}
+
+fn fmt_opt(v: Option<f64>, digits: usize, unit: &str) -> String {
+    v.map_or_else(|| "-".to_string(), |x| format!("{x:.digits$}{unit}"))
+}
+
+/// A table of a JSON object's entries (nested objects flattened with dots).
+fn settings_rows(v: &serde_json::Value, prefix: &str, out: &mut String) {
+    match v {
+        serde_json::Value::Object(map) => {
+            for (k, v) in map {
+                let key = if prefix.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{prefix}.{k}")
+                };
+                settings_rows(v, &key, out);
+            }
+        }
+        other => {
+            let text = match other {
+                serde_json::Value::String(s) => s.clone(),
+                o => o.to_string(),
+            };
+            let _ = writeln!(
+                out,
+                "<tr><td><code>{}</code></td><td>{}</td></tr>",
+                escape(prefix),
+                escape(&text)
+            );
+        }
+    }
+}
+
+/// Writes `dir/report.html` for the run whose summary is `s`.
+pub fn write_run_report(dir: &Path, s: &RunSummary) -> Result<PathBuf, String> {
+    let name = dir.file_name().map_or_else(
+        || dir.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    );
+    let mut b = String::new();
+    let _ = writeln!(b, "<h1>Run {}</h1>", escape(&name));
+    let _ = writeln!(
+        b,
+        "<p>Status: <b>{}</b>{}</p>",
+        s.status.as_str(),
+        s.t_end_s
+            .map(|t| format!(", simulated to t = {t:.4} s"))
+            .unwrap_or_default()
+    );
+    if let Some(e) = &s.error {
+        let _ = writeln!(b, "<p class=\"note\">Error: {}</p>", escape(e));
+    }
+    let _ = writeln!(b, "<h2>Result</h2>");
+    let _ = writeln!(
+        b,
+        "<p class=\"class\">Classification: {}</p>",
+        escape(
+            s.classification
+                .as_deref()
+                .unwrap_or("none (no run-up analysis)")
+        )
+    );
+    if let Some(n) = &s.classification_note {
+        let _ = writeln!(b, "<p class=\"note\">{}</p>", escape(n));
+    }
+    b.push_str("<table>\n");
+    let rows = [
+        ("onset time", fmt_opt(s.onset_time_s, 4, " s")),
+        ("onset speed", fmt_opt(s.onset_speed_hz, 0, " Hz")),
+        (
+            "first bearing",
+            s.first_bearing.clone().unwrap_or_else(|| "-".into()),
+        ),
+        ("max eccentricity C (|dr| / C)", fmt_opt(s.max_eps_c, 4, "")),
+        ("max eccentricity T (|dr| / C)", fmt_opt(s.max_eps_t, 4, "")),
+        (
+            "clearance C / T",
+            s.clearance_um
+                .map_or("-".into(), |c| format!("{} um / {} um", c.c, c.t)),
+        ),
+        ("wall time", fmt_opt(s.wall_time_s, 1, " s")),
+        (
+            "macro steps (retried)",
+            match (s.macro_steps, s.retried_macro_steps) {
+                (Some(n), Some(r)) => format!("{n} ({r})"),
+                _ => "-".into(),
+            },
+        ),
+    ];
+    for (k, v) in rows {
+        let _ = writeln!(b, "<tr><th>{}</th><td>{}</td></tr>", escape(k), escape(&v));
+    }
+    b.push_str("</table>\n");
+    if let Some(c) = &s.criteria {
+        let _ = writeln!(b, "<p>Criteria: {}</p>", escape(c));
+    }
+    if let Some(p) = &s.power_loss_w {
+        b.push_str("<h2>Friction power loss of the air films</h2>\n<table>\n");
+        b.push_str("<tr><th>speed [Hz]</th><th>bearing C [W]</th><th>bearing T [W]</th><th>both [W]</th></tr>\n");
+        for a in p.at_speeds.iter().chain(std::iter::once(&p.max)) {
+            let _ = writeln!(
+                b,
+                "<tr><td>{:.0}{}</td><td>{:.3}</td><td>{:.3}</td><td>{:.3}</td></tr>",
+                a.speed_hz,
+                if std::ptr::eq(a, &p.max) {
+                    " (maximum)"
+                } else {
+                    ""
+                },
+                a.c_w,
+                a.t_w,
+                a.total_w
+            );
+        }
+        let _ = writeln!(
+            b,
+            "</table>\n<p>At the quoted speeds: means over {} ms where the run-up passes them.</p>",
+            p.window_s * 1e3
+        );
+    }
+    let figures: Vec<&String> = s
+        .plots
+        .iter()
+        .flatten()
+        .filter(|f| f.ends_with(".svg"))
+        .collect();
+    if !figures.is_empty() {
+        b.push_str("<h2>Figures</h2>\n");
+        for f in figures {
+            if let Some(svg) = inline_svg(&dir.join(f)) {
+                let png = f.trim_end_matches(".svg").to_string() + ".png";
+                let _ = writeln!(
+                    b,
+                    "<div class=\"figure\">{svg}<p><a href=\"{}\">{}</a> · <a href=\"{}\">{}</a></p></div>",
+                    href(f),
+                    escape(f),
+                    href(&png),
+                    escape(&png)
+                );
+            }
+        }
+    }
+    if let Some(e) = &s.plot_error {
+        let _ = writeln!(b, "<p class=\"note\">Figures: {}</p>", escape(e));
+    }
+    b.push_str("<h2>Settings</h2>\n<table>\n");
+    settings_rows(&s.settings, "", &mut b);
+    b.push_str("</table>\n<h2>Files</h2>\n<ul>\n");
+    for f in [
+        "timeseries.csv",
+        "timeseries.parquet",
+        "summary.json",
+        "system.toml",
+        "runup.log",
+    ] {
+        if dir.join(f).is_file() {
+            let _ = writeln!(b, "<li><a href=\"{}\">{}</a></li>", href(f), escape(f));
+        }
+    }
+    b.push_str("</ul>\n");
+    let path = dir.join("report.html");
+    crate::output::write_whole(&path, page(&format!("AirRing run {name}"), &b).as_bytes())?;
+    Ok(path)
+}
+
+/// `path` relative to `base` when it lies below it, else as it is.
+fn relative(path: &Path, base: &Path) -> String {
+    path.strip_prefix(base)
+        .unwrap_or(path)
+        .to_string_lossy()
+        .into_owned()
+}
+
+/// Writes `out/report.html` for a sweep: its maps inline, its table, a link to each run's page.
+pub fn write_sweep_report(
+    out: &Path,
+    title: &str,
+    table: &Path,
+    maps: &[PathBuf],
+    records: &[RunRecord],
+) -> Result<PathBuf, String> {
+    let mut b = String::new();
+    let _ = writeln!(b, "<h1>Sweep {}</h1>", escape(title));
+    let _ = writeln!(
+        b,
+        "<p>{} runs. Table: <a href=\"{}\">{}</a></p>",
+        records.len(),
+        href(&relative(table, out)),
+        escape(&relative(table, out))
+    );
+    let svgs: Vec<&PathBuf> = maps
+        .iter()
+        .filter(|m| m.extension().is_some_and(|e| e == "svg"))
+        .collect();
+    if !svgs.is_empty() {
+        b.push_str("<h2>Bifurcation maps</h2>\n");
+        for m in svgs {
+            if let Some(svg) = inline_svg(m) {
+                let _ = writeln!(
+                    b,
+                    "<div class=\"figure\">{svg}<p><a href=\"{}\">{}</a></p></div>",
+                    href(&relative(m, out)),
+                    escape(&relative(m, out))
+                );
+            }
+        }
+    }
+    b.push_str(
+        "<h2>Runs</h2>\n<table>\n<tr><th>run</th><th>status</th><th>class</th>\
+                <th>onset [Hz]</th><th>max eps C</th><th>max eps T</th><th>wall [s]</th></tr>\n",
+    );
+    let mut sorted: Vec<&RunRecord> = records.iter().collect();
+    sorted.sort_by_key(|r| r.index);
+    for r in sorted {
+        let page = r.dir.join("report.html");
+        let name = if page.is_file() {
+            format!(
+                "<a href=\"{}\">{}</a>",
+                href(&relative(&page, out)),
+                escape(&r.name)
+            )
+        } else {
+            escape(&r.name)
+        };
+        let _ = writeln!(
+            b,
+            "<tr><td>{name}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+            escape(&r.status),
+            escape(r.classification.as_deref().unwrap_or("-")),
+            fmt_opt(r.onset_speed_hz, 0, ""),
+            fmt_opt(r.max_eps_c, 3, ""),
+            fmt_opt(r.max_eps_t, 3, ""),
+            fmt_opt(r.wall_time_s, 0, "")
+        );
+    }
+    b.push_str("</table>\n");
+    let path = out.join("report.html");
+    crate::output::write_whole(
+        &path,
+        page(&format!("AirRing sweep {title}"), &b).as_bytes(),
+    )?;
+    Ok(path)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn text_and_links_are_escaped() {
+        assert_eq!(escape("a<b & \"c\"'"), "a&lt;b &amp; &quot;c&quot;&#39;");
+        assert_eq!(href("runs/C15 x/report.html"), "runs/C15%20x/report.html");
+        assert_eq!(href("a&b\"<"), "a%26b%22%3C");
+    }
+}
