@@ -269,6 +269,8 @@ fn classify_command(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, S
         "max_eps_C": cl.max_eps_c,
         "max_eps_T": cl.max_eps_t,
         "criteria": cl.criteria,
+        "borderline": cl.borderline,
+        "margins": cl.margins,
     });
     println!(
         "{}",

@@ -153,6 +153,29 @@ pub fn write_run_report(dir: &Path, s: &RunSummary) -> Result<PathBuf, String> {
         let _ = writeln!(b, "<tr><th>{}</th><td>{}</td></tr>", escape(k), escape(&v));
     }
     b.push_str("</table>\n");
+    if s.borderline == Some(true) {
+        let _ = writeln!(
+            b,
+            "<p class=\"note\">Borderline: a criterion that decided the class lies within 10 % of \
+             its bound; a slightly different run may fall into the neighbouring class.</p>"
+        );
+    }
+    if let Some(margins) = s.margins.as_ref().filter(|m| !m.is_empty()) {
+        b.push_str("<table>\n<tr><th>criterion</th><th>value</th><th>bound</th><th>margin</th><th>decides the class</th></tr>\n");
+        for c in margins {
+            let _ = writeln!(
+                b,
+                "<tr><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
+                escape(&c.name),
+                fmt_opt(c.value, 4, ""),
+                c.bound,
+                c.margin
+                    .map_or("-".into(), |m| format!("{:+.1} %", 100.0 * m)),
+                if c.deciding { "yes" } else { "no" }
+            );
+        }
+        b.push_str("</table>\n");
+    }
     if let Some(c) = &s.criteria {
         let _ = writeln!(b, "<p>Criteria: {}</p>", escape(c));
     }

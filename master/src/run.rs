@@ -310,6 +310,8 @@ fn write_summary(
             summary.max_eps_t = Some(cl.max_eps_t);
             summary.first_bearing = cl.first_bearing.clone();
             summary.criteria = Some(cl.criteria.clone());
+            summary.margins = Some(cl.margins.clone());
+            summary.borderline = Some(cl.borderline);
             summary.whirl = serde_json::to_value(&cl.whirl).ok();
             if !report.completed {
                 summary.classification_note =

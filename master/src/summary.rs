@@ -74,6 +74,10 @@ pub struct RunSummary {
     pub max_eps_t: Option<f64>,
     pub first_bearing: Option<String>,
     pub criteria: Option<String>,
+    /// Each criterion's value, bound and relative margin (analysis::classify::Criterion).
+    pub margins: Option<Vec<crate::analysis::classify::Criterion>>,
+    /// A deciding criterion lies within 10 % of its bound (None in folders of earlier versions).
+    pub borderline: Option<bool>,
     pub whirl: Option<serde_json::Value>,
     /// Friction power loss of the films [W]: at the quoted speeds and at most (run-ups whose
     /// films report `power_loss`).

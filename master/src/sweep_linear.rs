@@ -190,6 +190,7 @@ pub fn predict(
             }
             .into(),
             classification: classification.map(String::from),
+            borderline: None,
             onset_time_s: p.onset_time_s,
             onset_speed_hz: p.onset_hz,
             max_eps_c: None,

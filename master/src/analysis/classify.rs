@@ -113,6 +113,61 @@ pub struct Classification {
     pub whirl: Vec<WhirlSample>,
     /// Why: the measured features against the thresholds, human-readable.
     pub criteria: String,
+    /// Every criterion with its value, bound and relative margin (docs/classification.md).
+    #[serde(default)]
+    pub margins: Vec<Criterion>,
+    /// A criterion that decided the class lies within [`BORDERLINE_MARGIN`] of its bound: a
+    /// slightly different run (disturbance, ramp, mesh) may fall into the neighbouring class.
+    #[serde(default)]
+    pub borderline: bool,
+}
+
+/// A deciding criterion closer than this (relative) to its bound makes the class borderline.
+pub const BORDERLINE_MARGIN: f64 = 0.10;
+
+/// One criterion of the decision.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Criterion {
+    /// What is measured, in the engineer's terms (e.g. "whirl amplitude / C").
+    pub name: String,
+    /// Its value in this run (None where it could not be measured, e.g. too few whirl windows).
+    pub value: Option<f64>,
+    /// The class boundary.
+    pub bound: f64,
+    /// (value - bound) / bound: positive above the bound.
+    pub margin: Option<f64>,
+    /// Crossing the bound alone would change the class.
+    pub deciding: bool,
+}
+
+impl Criterion {
+    fn new(name: &str, value: Option<f64>, bound: f64, deciding: bool) -> Self {
+        Criterion {
+            name: name.to_string(),
+            value,
+            bound,
+            margin: value.map(|v| (v - bound) / bound),
+            deciding: deciding && value.is_some(),
+        }
+    }
+}
+
+/// True if a deciding criterion lies within [`BORDERLINE_MARGIN`] of its bound.
+pub fn is_borderline(margins: &[Criterion]) -> bool {
+    margins
+        .iter()
+        .any(|c| c.deciding && c.margin.is_some_and(|m| m.abs() < BORDERLINE_MARGIN))
+}
+
+/// The class of an unstable run from its three features (module documentation, steps 4-6).
+fn path_class(large: bool, proportional: bool, two_freq: bool) -> RunClass {
+    if large && proportional {
+        RunClass::Path2b
+    } else if large || two_freq {
+        RunClass::Path1
+    } else {
+        RunClass::Path2a
+    }
 }
 
 /// The onset thresholds in um: one figure when both bearings share it, else C and T.
@@ -199,11 +254,30 @@ pub fn classify(series: &RunSeries) -> Classification {
                 onset::MIN_PERSIST_S,
                 onset::MIN_PERSIST_S
             ),
+            margins: vec![Criterion::new(
+                "run duration [s]",
+                Some(duration_s),
+                onset::MIN_PERSIST_S,
+                false,
+            )],
+            borderline: false,
         };
     }
     let Some((t_on, first_b)) = first else {
         let m = max_eps_from(f64::NEG_INFINITY, false);
+        // The largest oscillation after start-up against the onset threshold: deciding (it is what
+        // would make an onset; persistence comes on top).
+        let largest = (max_after_startup(&tracks[0], series) / cl[0])
+            .max(max_after_startup(&tracks[1], series) / cl[1]);
+        let margins = vec![Criterion::new(
+            "oscillation amplitude after start-up / C",
+            Some(largest),
+            onset::ONSET_AMP_REL,
+            true,
+        )];
         return Classification {
+            borderline: is_borderline(&margins),
+            margins,
             class: RunClass::Stable,
             onset_time_s: None,
             onset_speed_hz: None,
@@ -241,6 +315,7 @@ pub fn classify(series: &RunSeries) -> Classification {
 
     let whirl = whirl_samples(series, &spin, t_on);
     let feat = features(&whirl, series, &eps, t_on);
+    let margins = unstable_margins(&feat, onset_speed / top_hz.max(1e-300), low_speed);
     let (class, why) = if low_speed {
         (
             RunClass::UnstableLowSpeed,
@@ -254,13 +329,7 @@ pub fn classify(series: &RunSeries) -> Classification {
         let two_freq = feat
             .two_freq_fraction
             .is_some_and(|f| f >= TWO_FREQ_MIN_FRACTION);
-        let class = if large && proportional {
-            RunClass::Path2b
-        } else if large || two_freq {
-            RunClass::Path1
-        } else {
-            RunClass::Path2a
-        };
+        let class = path_class(large, proportional, two_freq);
         let why = format!(
             "large={large} (max whirl amplitude {:.3} C vs {}, max eps after onset {:.3} vs {}); \
              speed-proportional={proportional} (whirl-frequency elasticity {} vs {}); \
@@ -286,7 +355,59 @@ pub fn classify(series: &RunSeries) -> Classification {
         max_eps_t: m[1],
         whirl,
         criteria: format!("{}: {onset_text}; {why}", class.as_str()),
+        borderline: is_borderline(&margins),
+        margins,
     }
+}
+
+/// The criteria of a run with an onset: the onset speed against the low-speed bound, then the
+/// features of the whirl against theirs; each marked deciding if crossing its bound alone would
+/// change the class.
+fn unstable_margins(feat: &Features, onset_fraction: f64, low_speed: bool) -> Vec<Criterion> {
+    let amp = feat.max_amp_rel > LARGE_WHIRL_AMP_REL;
+    let eps = feat.max_eps_after > LARGE_EPS;
+    let prop = feat
+        .elasticity
+        .is_some_and(|e| e >= PROPORTIONAL_ELASTICITY);
+    let two = feat
+        .two_freq_fraction
+        .is_some_and(|f| f >= TWO_FREQ_MIN_FRACTION);
+    let class = path_class(amp || eps, prop, two);
+    // The class with one criterion's outcome flipped (and the low-speed step passed).
+    let flips =
+        |a: bool, e: bool, p: bool, t: bool| !low_speed && path_class(a || e, p, t) != class;
+    vec![
+        Criterion::new(
+            "onset speed / top speed",
+            Some(onset_fraction),
+            LOW_SPEED_FRACTION,
+            true,
+        ),
+        Criterion::new(
+            "whirl amplitude / C",
+            Some(feat.max_amp_rel),
+            LARGE_WHIRL_AMP_REL,
+            flips(!amp, eps, prop, two),
+        ),
+        Criterion::new(
+            "eccentricity after onset (1 - h_min / C at the lobe trailing edge)",
+            Some(feat.max_eps_after),
+            LARGE_EPS,
+            flips(amp, !eps, prop, two),
+        ),
+        Criterion::new(
+            "whirl-frequency elasticity d ln f / d ln Omega",
+            feat.elasticity,
+            PROPORTIONAL_ELASTICITY,
+            flips(amp, eps, !prop, two),
+        ),
+        Criterion::new(
+            "share of whirl windows with two frequencies",
+            feat.two_freq_fraction,
+            TWO_FREQ_MIN_FRACTION,
+            flips(amp, eps, prop, !two),
+        ),
+    ]
 }
 
 fn fmt_opt(v: Option<f64>) -> String {

@@ -248,3 +248,61 @@ fn onset_detector_reads_a_clean_sqrt_growth() {
     // The window is 20 ms long: its RMS sees the growth up to 10 ms early.
     assert!((t - 0.5).abs() < 0.012, "onset {t}");
 }
+
+fn criterion<'a>(cl: &'a Classification, name_start: &str) -> &'a classify::Criterion {
+    cl.margins
+        .iter()
+        .find(|c| c.name.starts_with(name_start))
+        .unwrap_or_else(|| panic!("no criterion '{name_start}' in {:?}", cl.margins))
+}
+
+/// Margins: every criterion reports value, bound and relative margin; those whose crossing alone
+/// would change the class are marked deciding; a deciding margin under 10 % makes the class
+/// borderline. The path-2a whirl at 0.48 C (the path2a preset's amplitude, 4 % under the path-1
+/// bound) is borderline; at 0.2 C it is not.
+#[test]
+fn margins_mark_a_class_close_to_its_neighbour_as_borderline() {
+    let near = classify(&path2a_run(0.48));
+    assert_eq!(near.class, RunClass::Path2a, "{}", near.criteria);
+    let amp = criterion(&near, "whirl amplitude");
+    assert!(
+        amp.deciding && amp.bound == classify::LARGE_WHIRL_AMP_REL,
+        "{amp:?}"
+    );
+    let m = amp.margin.unwrap();
+    assert!((-0.10..0.0).contains(&m), "{amp:?}");
+    assert!(near.borderline);
+
+    let far = classify(&path2a_run(0.2));
+    assert_eq!(far.class, RunClass::Path2a);
+    assert!(!far.borderline, "{:?}", far.margins);
+    // For path 2a: a larger amplitude, eccentricity or a second frequency would make it path 1
+    // (deciding); a speed-proportional frequency alone would not (still moderate: 2a).
+    assert!(criterion(&far, "whirl amplitude").deciding);
+    assert!(criterion(&far, "eccentricity after onset").deciding);
+    assert!(criterion(&far, "share of whirl windows").deciding);
+    assert!(!criterion(&far, "whirl-frequency elasticity").deciding);
+    assert!(criterion(&far, "onset speed").deciding);
+    for c in &far.margins {
+        if let (Some(v), Some(m)) = (c.value, c.margin) {
+            assert!((m - (v - c.bound) / c.bound).abs() < 1e-12, "{c:?}");
+        }
+    }
+}
+
+/// A stable run reports its largest oscillation against the onset threshold; the class serializes
+/// with its margins (summary.json, `airring classify`).
+#[test]
+fn a_stable_run_has_its_amplitude_margin() {
+    let cl = classify(&base(DT_S, T_END_S));
+    assert_eq!(cl.class, RunClass::Stable);
+    let c = criterion(&cl, "oscillation amplitude after start-up");
+    assert!(
+        c.deciding && c.bound == onset::ONSET_AMP_REL && c.margin.unwrap() < -0.1,
+        "{c:?}"
+    );
+    assert!(!cl.borderline);
+    let json = serde_json::to_value(&cl).unwrap();
+    assert_eq!(json["borderline"], false);
+    assert!(json["margins"][0]["bound"].as_f64().is_some());
+}

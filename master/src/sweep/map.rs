@@ -30,8 +30,10 @@ fn cell_style(r: &RunRecord) -> (Rgb, String) {
         .as_deref()
         .and_then(|c| CLASS_NAMES.iter().find(|e| e.0 == c));
     if r.status == "completed" {
+        // A borderline class carries a marker (explained under the legend).
+        let mark = if r.borderline == Some(true) { " *" } else { "" };
         return match class {
-            Some(&(_, name, label)) => (legend_color(name), label.to_string()),
+            Some(&(_, name, label)) => (legend_color(name), format!("{label}{mark}")),
             None => (Rgb(240, 240, 240), "unclassified".into()),
         };
     }
@@ -354,8 +356,15 @@ fn plot_maps_across(
                 .then(|| labelled(&k, first))
         })
         .collect();
-    if !common.is_empty() {
-        c.text(10.0, ly + 42.0, &common.join(", "), 12.0, Anchor::Start);
+    let mut footnote = common.join(", ");
+    if records.iter().any(|r| r.borderline == Some(true)) {
+        if !footnote.is_empty() {
+            footnote.push_str("; ");
+        }
+        footnote.push_str("* borderline: a deciding criterion within 10 % of its bound");
+    }
+    if !footnote.is_empty() {
+        c.text(10.0, ly + 42.0, &footnote, 12.0, Anchor::Start);
     }
     c.save(dir, stem)
 }
@@ -373,6 +382,7 @@ mod tests {
             args: BTreeMap::new(),
             status: status.into(),
             classification: class.map(String::from),
+            borderline: None,
             onset_time_s: onset,
             onset_speed_hz: None,
             max_eps_c: None,
@@ -386,6 +396,10 @@ mod tests {
             "path 2b (f)"
         );
         assert_eq!(cell_style(&rec("failed", Some("stable"), None)).1, "failed");
+        // A borderline class is marked.
+        let mut b = rec("completed", Some("path2a"), Some(2.0));
+        b.borderline = Some(true);
+        assert_eq!(cell_style(&b).1, "path 2a *");
         assert_eq!(
             cell_style(&rec("completed", Some("path2b"), Some(1.1))).1,
             "path 2b"
@@ -417,6 +431,7 @@ mod tests {
                 args,
                 status: "completed".into(),
                 classification: Some("stable".into()),
+                borderline: None,
                 onset_time_s: None,
                 onset_speed_hz: None,
                 max_eps_c: None,

@@ -15,6 +15,8 @@ pub struct RunRecord {
     pub args: BTreeMap<String, String>,
     pub status: String,
     pub classification: Option<String>,
+    /// The class is borderline (a deciding criterion within 10 % of its bound).
+    pub borderline: Option<bool>,
     pub onset_time_s: Option<f64>,
     pub onset_speed_hz: Option<f64>,
     pub max_eps_c: Option<f64>,
@@ -67,6 +69,7 @@ pub fn collect(dirs: &[PathBuf]) -> Vec<RunRecord> {
                     .map_or("missing", |s| s.status.as_str())
                     .to_string(),
                 classification: s.as_ref().and_then(|s| s.classification.clone()),
+                borderline: s.as_ref().and_then(|s| s.borderline),
                 onset_time_s: s.as_ref().and_then(|s| s.onset_time_s),
                 onset_speed_hz: s.as_ref().and_then(|s| s.onset_speed_hz),
                 max_eps_c: s.as_ref().and_then(|s| s.max_eps_c),
@@ -106,7 +109,7 @@ pub fn write_table(records: &[RunRecord], path: &Path) -> Result<(), String> {
             s.push_str(&format!(",{k} [{unit}]"));
         }
     }
-    s.push_str(",status,classification,onset_time [s],onset_speed [Hz],max_eps_C [1],max_eps_T [1],wall_time [s]\n");
+    s.push_str(",status,classification,borderline,onset_time [s],onset_speed [Hz],max_eps_C [1],max_eps_T [1],wall_time [s]\n");
     for r in records {
         s.push_str(&r.name);
         for k in &keys {
@@ -119,9 +122,10 @@ pub fn write_table(records: &[RunRecord], path: &Path) -> Result<(), String> {
             }
         }
         s.push_str(&format!(
-            ",{},{},{},{},{},{},{}\n",
+            ",{},{},{},{},{},{},{},{}\n",
             r.status,
             r.classification.as_deref().unwrap_or(""),
+            r.borderline.map_or(String::new(), |b| b.to_string()),
             opt(r.onset_time_s),
             opt(r.onset_speed_hz),
             opt(r.max_eps_c),
