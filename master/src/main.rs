@@ -95,6 +95,14 @@ enum Command {
         #[arg(long)]
         out: Option<PathBuf>,
     },
+    /// How a sweep's classes depend on the classifier's bounds: every completed run classified
+    /// again with each bound moved down and up (sensitivity.csv, and a summary).
+    SweepSensitivity {
+        dir: PathBuf,
+        /// Relative move of each bound.
+        #[arg(long, default_value_t = 0.2)]
+        delta: f64,
+    },
     /// Modal analysis of the rotor with linear film springs (paper Section 2.3).
     Modal {
         /// Rotor speed [Hz] (several: Campbell data).
@@ -382,7 +390,10 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
 /// and must reach their checkpoint and summary even if the terminal's pipe closes.
 fn quiet_on_closed_stdout(command: &Command) {
     let filter = match command {
-        Command::Classify { .. } | Command::Modal { .. } | Command::Stability(_) => true,
+        Command::Classify { .. }
+        | Command::Modal { .. }
+        | Command::Stability(_)
+        | Command::SweepSensitivity { .. } => true,
         Command::Sweep { list, .. } => *list,
         _ => false,
     };
@@ -533,6 +544,13 @@ fn main() -> ExitCode {
             let out = out.unwrap_or_else(|| dirs[0].clone());
             let (table, maps, n) = master::sweep::merge(&dirs, &out)?;
             eprintln!("{n} runs -> {}, {}", table.display(), maps[0].display());
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::SweepSensitivity { dir, delta } => {
+            let runs = master::sweep::sensitivity::sensitivity(&dir, delta)?;
+            let (path, text) = master::sweep::sensitivity::write(&dir, delta, &runs)?;
+            print!("{text}");
+            eprintln!("-> {}", path.display());
             Ok(ExitCode::SUCCESS)
         }
         Command::Modal {

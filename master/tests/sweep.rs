@@ -102,6 +102,21 @@ fn smoke_study_runs_resumes_and_shards_merge() {
         4,
         "{links:?}"
     );
+    // The classes' sensitivity to the bounds: one row per run, its class and 12 moved ones.
+    let out = Command::new(env!("CARGO_BIN_EXE_airring"))
+        .args(["sweep-sensitivity", full_s])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(String::from_utf8_lossy(&out.stdout).contains("large_eps x1.2: 0 changed"));
+    let sens = std::fs::read_to_string(full.join("sensitivity.csv")).unwrap();
+    let lines: Vec<&str> = sens.lines().collect();
+    assert_eq!(lines.len(), 5, "{sens}");
+    assert_eq!(lines[0].split(',').count(), 14, "{}", lines[0]);
     let summary = full.join("runs/C20_dH40_c1000_d500/summary.json");
     let mtime = std::fs::metadata(&summary).unwrap().modified().unwrap();
 

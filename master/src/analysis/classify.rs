@@ -159,6 +159,60 @@ pub fn is_borderline(margins: &[Criterion]) -> bool {
         .any(|c| c.deciding && c.margin.is_some_and(|m| m.abs() < BORDERLINE_MARGIN))
 }
 
+/// The bounds of the decision (the constants above by default); `classify_with` takes others for
+/// the sensitivity of a study's map to each bound (`airring sweep-sensitivity`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Bounds {
+    /// Onset: oscillation amplitude / C ([`onset::ONSET_AMP_REL`]).
+    pub onset_amp_rel: f64,
+    pub low_speed_fraction: f64,
+    pub large_whirl_amp_rel: f64,
+    pub large_eps: f64,
+    pub proportional_elasticity: f64,
+    pub two_freq_min_fraction: f64,
+}
+
+impl Default for Bounds {
+    fn default() -> Self {
+        Bounds {
+            onset_amp_rel: onset::ONSET_AMP_REL,
+            low_speed_fraction: LOW_SPEED_FRACTION,
+            large_whirl_amp_rel: LARGE_WHIRL_AMP_REL,
+            large_eps: LARGE_EPS,
+            proportional_elasticity: PROPORTIONAL_ELASTICITY,
+            two_freq_min_fraction: TWO_FREQ_MIN_FRACTION,
+        }
+    }
+}
+
+impl Bounds {
+    /// The bounds' names, as `scaled` takes them.
+    pub const NAMES: [&'static str; 6] = [
+        "onset_amp_rel",
+        "low_speed_fraction",
+        "large_whirl_amp_rel",
+        "large_eps",
+        "proportional_elasticity",
+        "two_freq_min_fraction",
+    ];
+
+    /// A copy with bound `name` multiplied by `factor`.
+    pub fn scaled(&self, name: &str, factor: f64) -> Option<Bounds> {
+        let mut b = *self;
+        let f = match name {
+            "onset_amp_rel" => &mut b.onset_amp_rel,
+            "low_speed_fraction" => &mut b.low_speed_fraction,
+            "large_whirl_amp_rel" => &mut b.large_whirl_amp_rel,
+            "large_eps" => &mut b.large_eps,
+            "proportional_elasticity" => &mut b.proportional_elasticity,
+            "two_freq_min_fraction" => &mut b.two_freq_min_fraction,
+            _ => return None,
+        };
+        *f *= factor;
+        Some(b)
+    }
+}
+
 /// The class of an unstable run from its three features (module documentation, steps 4-6).
 fn path_class(large: bool, proportional: bool, two_freq: bool) -> RunClass {
     if large && proportional {
@@ -181,11 +235,16 @@ fn threshold_text(thr: [f64; 2]) -> String {
 
 /// Classify one run-up (see the module documentation for the criteria).
 pub fn classify(series: &RunSeries) -> Classification {
+    classify_with(series, &Bounds::default())
+}
+
+/// `classify` with other bounds.
+pub fn classify_with(series: &RunSeries, b: &Bounds) -> Classification {
     series.check();
     // Thresholds scale with each bearing's own clearance.
     let cl = series.clearance_m;
     let spin = series.spin_angle_rad();
-    let thr = cl.map(|c| onset::ONSET_AMP_REL * c);
+    let thr = cl.map(|c| b.onset_amp_rel * c);
     let tracks: Vec<OscTrack> = Bearing::BOTH
         .iter()
         .map(|b| onset::oscillation_track(series, *b, &spin, onset::AMP_WINDOW_S, onset::AMP_HOP_S))
@@ -272,7 +331,7 @@ pub fn classify(series: &RunSeries) -> Classification {
         let margins = vec![Criterion::new(
             "oscillation amplitude after start-up / C",
             Some(largest),
-            onset::ONSET_AMP_REL,
+            b.onset_amp_rel,
             true,
         )];
         return Classification {
@@ -288,7 +347,7 @@ pub fn classify(series: &RunSeries) -> Classification {
             criteria: format!(
                 "stable: no oscillation about the quasi-static equilibrium above {} C ({}) lasting {} s at \
                  either bearing up to {:.0} Hz (largest after start-up: C {:.4} C, T {:.4} C)",
-                onset::ONSET_AMP_REL,
+                b.onset_amp_rel,
                 threshold_text(thr),
                 onset::MIN_PERSIST_S,
                 top_hz,
@@ -298,7 +357,7 @@ pub fn classify(series: &RunSeries) -> Classification {
         };
     };
     let onset_speed = series.speed_hz_at(t_on);
-    let low_speed = onset_speed < LOW_SPEED_FRACTION * top_hz;
+    let low_speed = onset_speed < b.low_speed_fraction * top_hz;
     let m = max_eps_from(f64::NEG_INFINITY, low_speed);
     let onset_text = format!(
         "onset at {:.4} s ({:.0} Hz, {:.0}% of top speed), bearing {} first (oscillation > {} C sustained >= {} s; \
@@ -307,7 +366,7 @@ pub fn classify(series: &RunSeries) -> Classification {
         onset_speed,
         100.0 * onset_speed / top_hz.max(1e-300),
         first_b.label(),
-        onset::ONSET_AMP_REL,
+        b.onset_amp_rel,
         onset::MIN_PERSIST_S,
         fmt_opt(onsets[0]),
         fmt_opt(onsets[1]),
@@ -315,34 +374,34 @@ pub fn classify(series: &RunSeries) -> Classification {
 
     let whirl = whirl_samples(series, &spin, t_on);
     let feat = features(&whirl, series, &eps, t_on);
-    let margins = unstable_margins(&feat, onset_speed / top_hz.max(1e-300), low_speed);
+    let margins = unstable_margins(&feat, onset_speed / top_hz.max(1e-300), low_speed, b);
     let (class, why) = if low_speed {
         (
             RunClass::UnstableLowSpeed,
-            format!("onset below {} of top speed", LOW_SPEED_FRACTION),
+            format!("onset below {} of top speed", b.low_speed_fraction),
         )
     } else {
-        let large = feat.max_amp_rel > LARGE_WHIRL_AMP_REL || feat.max_eps_after > LARGE_EPS;
+        let large = feat.max_amp_rel > b.large_whirl_amp_rel || feat.max_eps_after > b.large_eps;
         let proportional = feat
             .elasticity
-            .is_some_and(|e| e >= PROPORTIONAL_ELASTICITY);
+            .is_some_and(|e| e >= b.proportional_elasticity);
         let two_freq = feat
             .two_freq_fraction
-            .is_some_and(|f| f >= TWO_FREQ_MIN_FRACTION);
+            .is_some_and(|f| f >= b.two_freq_min_fraction);
         let class = path_class(large, proportional, two_freq);
         let why = format!(
             "large={large} (max whirl amplitude {:.3} C vs {}, max eps after onset {:.3} vs {}); \
              speed-proportional={proportional} (whirl-frequency elasticity {} vs {}); \
              two-frequencies={two_freq} (share of joint whirl windows with frequencies > {}% apart {} vs {})",
             feat.max_amp_rel,
-            LARGE_WHIRL_AMP_REL,
+            b.large_whirl_amp_rel,
             feat.max_eps_after,
-            LARGE_EPS,
+            b.large_eps,
             fmt_opt(feat.elasticity),
-            PROPORTIONAL_ELASTICITY,
+            b.proportional_elasticity,
             100.0 * FREQ_SPLIT_REL,
             fmt_opt(feat.two_freq_fraction),
-            TWO_FREQ_MIN_FRACTION,
+            b.two_freq_min_fraction,
         );
         (class, why)
     };
@@ -363,15 +422,20 @@ pub fn classify(series: &RunSeries) -> Classification {
 /// The criteria of a run with an onset: the onset speed against the low-speed bound, then the
 /// features of the whirl against theirs; each marked deciding if crossing its bound alone would
 /// change the class.
-fn unstable_margins(feat: &Features, onset_fraction: f64, low_speed: bool) -> Vec<Criterion> {
-    let amp = feat.max_amp_rel > LARGE_WHIRL_AMP_REL;
-    let eps = feat.max_eps_after > LARGE_EPS;
+fn unstable_margins(
+    feat: &Features,
+    onset_fraction: f64,
+    low_speed: bool,
+    b: &Bounds,
+) -> Vec<Criterion> {
+    let amp = feat.max_amp_rel > b.large_whirl_amp_rel;
+    let eps = feat.max_eps_after > b.large_eps;
     let prop = feat
         .elasticity
-        .is_some_and(|e| e >= PROPORTIONAL_ELASTICITY);
+        .is_some_and(|e| e >= b.proportional_elasticity);
     let two = feat
         .two_freq_fraction
-        .is_some_and(|f| f >= TWO_FREQ_MIN_FRACTION);
+        .is_some_and(|f| f >= b.two_freq_min_fraction);
     let class = path_class(amp || eps, prop, two);
     // The class with one criterion's outcome flipped (and the low-speed step passed).
     let flips =
@@ -380,31 +444,31 @@ fn unstable_margins(feat: &Features, onset_fraction: f64, low_speed: bool) -> Ve
         Criterion::new(
             "onset speed / top speed",
             Some(onset_fraction),
-            LOW_SPEED_FRACTION,
+            b.low_speed_fraction,
             true,
         ),
         Criterion::new(
             "whirl amplitude / C",
             Some(feat.max_amp_rel),
-            LARGE_WHIRL_AMP_REL,
+            b.large_whirl_amp_rel,
             flips(!amp, eps, prop, two),
         ),
         Criterion::new(
             "eccentricity after onset (1 - h_min / C at the lobe trailing edge)",
             Some(feat.max_eps_after),
-            LARGE_EPS,
+            b.large_eps,
             flips(amp, !eps, prop, two),
         ),
         Criterion::new(
             "whirl-frequency elasticity d ln f / d ln Omega",
             feat.elasticity,
-            PROPORTIONAL_ELASTICITY,
+            b.proportional_elasticity,
             flips(amp, eps, !prop, two),
         ),
         Criterion::new(
             "share of whirl windows with two frequencies",
             feat.two_freq_fraction,
-            TWO_FREQ_MIN_FRACTION,
+            b.two_freq_min_fraction,
             flips(amp, eps, prop, !two),
         ),
     ]

@@ -306,3 +306,25 @@ fn a_stable_run_has_its_amplitude_margin() {
     assert_eq!(json["borderline"], false);
     assert!(json["margins"][0]["bound"].as_f64().is_some());
 }
+
+/// The bounds reach the decision: the 0.48 C path-2a whirl turns path 1 when the amplitude bound
+/// moves down by 20 % (0.4 C), and stays 2a when it moves up; the default bounds give `classify`.
+#[test]
+fn moved_bounds_move_the_class() {
+    let s = path2a_run(0.48);
+    let b = classify::Bounds::default();
+    assert_eq!(classify_with_default_is_classify(&s), RunClass::Path2a);
+    let down = b.scaled("large_whirl_amp_rel", 0.8).unwrap();
+    let up = b.scaled("large_whirl_amp_rel", 1.2).unwrap();
+    assert_eq!(classify::classify_with(&s, &down).class, RunClass::Path1);
+    assert_eq!(classify::classify_with(&s, &up).class, RunClass::Path2a);
+    // A lower onset threshold finds the same whirl no later.
+    let early = classify::classify_with(&s, &b.scaled("onset_amp_rel", 0.8).unwrap());
+    assert!(early.onset_time_s.unwrap() <= classify(&s).onset_time_s.unwrap());
+}
+
+fn classify_with_default_is_classify(s: &RunSeries) -> RunClass {
+    let a = classify::classify_with(s, &classify::Bounds::default());
+    assert_eq!(a, classify(s));
+    a.class
+}

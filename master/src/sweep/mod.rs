@@ -25,6 +25,7 @@
 //! file runs the run-ups.
 
 mod map;
+pub mod sensitivity;
 mod study;
 mod table;
 
