@@ -286,6 +286,11 @@ pub fn runup_series(
         y_jc_m: get(cols[5]),
         y_jt_m: get(cols[6]),
         clearance_m,
+        // The films' own eccentricities, when recorded (every run-up records them).
+        eps_films: match (col("film_C.eps"), col("film_T.eps")) {
+            (Some(c), Some(t)) => Some([get(c), get(t)]),
+            _ => None,
+        },
     })
 }
 

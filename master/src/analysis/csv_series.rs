@@ -1,6 +1,7 @@
 //! Reading a run folder's `timeseries.csv` back into a [`RunSeries`], so that a finished run
 //! (from `airring runup`, `airring run`, or another tool writing the same columns) can be
-//! classified again without re-running it (`airring classify DIR`).
+//! classified again without re-running it (`airring classify DIR`). The films' own `eps`
+//! columns are used when the run recorded them.
 
 use super::RunSeries;
 use std::path::Path;
@@ -35,6 +36,13 @@ pub fn series_from_csv(text: &str, clearance_m: [f64; 2]) -> Result<RunSeries, S
             .position(|h| h == name)
             .ok_or_else(|| format!("column '{name}' is missing"))?;
     }
+    // The films' own eccentricities, if recorded (run-ups since session 8; older folders: none).
+    let eps_idx: Option<[usize; 2]> = ["film_C.eps", "film_T.eps"]
+        .map(|name| header.iter().position(|h| *h == name))
+        .into_iter()
+        .collect::<Option<Vec<usize>>>()
+        .map(|v| [v[0], v[1]]);
+    let mut eps_cols: [Vec<f64>; 2] = Default::default();
     let mut cols: [Vec<f64>; 8] = Default::default();
     for (n, line) in lines.enumerate() {
         if line.trim().is_empty() {
@@ -60,6 +68,10 @@ pub fn series_from_csv(text: &str, clearance_m: [f64; 2]) -> Result<RunSeries, S
         for k in 0..7 {
             cols[k + 1].push(v[idx[k]]);
         }
+        if let Some(e) = eps_idx {
+            eps_cols[0].push(v[e[0]]);
+            eps_cols[1].push(v[e[1]]);
+        }
     }
     if cols[0].len() < 16 {
         return Err(format!(
@@ -78,6 +90,7 @@ pub fn series_from_csv(text: &str, clearance_m: [f64; 2]) -> Result<RunSeries, S
         y_jc_m,
         y_jt_m,
         clearance_m,
+        eps_films: eps_idx.map(|_| eps_cols),
     })
 }
 
@@ -117,6 +130,25 @@ mod tests {
         assert_eq!(r.dy_t_m[3], -4e-6);
         assert_eq!(r.y_jt_m[0], -6e-6);
         assert_eq!(r.omega_rad_s[10], 100.0 * 10.0 * 1e-3);
+    }
+
+    /// With the films' eps columns the analysis takes them (the eccentricity each film computed
+    /// with); without them (folders of earlier versions) |dr| / C from the rotor's outputs.
+    #[test]
+    fn the_films_own_eccentricities_are_used_when_recorded() {
+        let without = series_from_csv(&csv(20), [20e-6; 2]).unwrap();
+        assert!(without.eps_films.is_none());
+        let e = without.eps(crate::analysis::Bearing::C)[0];
+        assert!((e - 1e-6f64.hypot(2e-6) / 20e-6).abs() < 1e-15);
+        let with = csv(20)
+            .replace(
+                "film_C.Fx [N]\n",
+                "film_C.Fx [N],film_T.eps [1],film_C.eps [1]\n",
+            )
+            .replace(",0\n", ",0,0.25,0.125\n");
+        let r = series_from_csv(&with, [20e-6; 2]).unwrap();
+        assert_eq!(r.eps(crate::analysis::Bearing::C), vec![0.125; 20]);
+        assert_eq!(r.eps(crate::analysis::Bearing::T), vec![0.25; 20]);
     }
 
     #[test]

@@ -18,6 +18,10 @@ pub struct RunSeries {
     /// Nominal (minimum) radial clearance C of each bearing [C, T]; a bearing's eccentricity is
     /// its |dr| / C.
     pub clearance_m: [f64; 2],
+    /// The films' own eccentricity outputs [C, T] (`film_C.eps`, `film_T.eps`), when the run
+    /// recorded them: the eccentricity each film computed with. `eps` falls back to |dr| / C
+    /// from the rotor's outputs for series without them (earlier run folders, tests).
+    pub eps_films: Option<[Vec<f64>; 2]>,
 }
 
 /// Which bearing.
@@ -74,6 +78,9 @@ impl RunSeries {
 
     /// Eccentricity ratio eps = |dr| / C per sample of one bearing.
     pub fn eps(&self, b: Bearing) -> Vec<f64> {
+        if let Some(films) = &self.eps_films {
+            return films[b as usize].clone();
+        }
         let (dx, dy) = self.rel(b);
         dx.iter()
             .zip(dy)
@@ -131,6 +138,14 @@ impl RunSeries {
                 n,
                 "RunSeries::{name} has {} samples, t_s has {n}",
                 v.len()
+            );
+        }
+        if let Some([c, t]) = &self.eps_films {
+            assert!(
+                c.len() == n && t.len() == n,
+                "RunSeries::eps_films has {} and {} samples, t_s has {n}",
+                c.len(),
+                t.len()
             );
         }
         assert!(
