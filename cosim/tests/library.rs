@@ -1,33 +1,17 @@
 //! The library on its own, as another application would use it: `cosim::run` with observers of
 //! its own on the packed test FMU (`oscillator.fmu`; build it first with `cargo xtask fmus`).
-//! The coupling-order, roll-back and checkpoint tests of the run loop live in
-//! master/tests/cosim.rs (they run it through the application's observers).
+//! The coupling-order, roll-back, step-control and checkpoint tests of the run loop are in
+//! algorithm.rs.
 
+mod common;
+
+use common::{fmu_dir, tmp};
 use cosim::algorithm::Event;
 use cosim::observer::{Observer, RunStart};
 use cosim::timeseries::{self, CsvObserver};
 use cosim::{CoSim, RunConfig, RunReport};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-
-fn fmu_dir() -> PathBuf {
-    let d = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .join("target/fmu");
-    assert!(
-        d.join("oscillator.fmu").exists(),
-        "run `cargo xtask fmus` first"
-    );
-    d
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("cosim-test-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 /// Two oscillators coupled through their inputs; `a` discards its steps from t = 4 ms on unless
 /// they are at most a quarter of the 10 ms macro step (the FMU's fault mode 3).
