@@ -14,8 +14,20 @@
 //! Rotational equations (Jourdain / projected Newton-Euler):
 //! H^T J H q'' = H^T (tau - omega x J omega - J H' q').
 
-use crate::linalg::*;
+use crate::linalg::{Mat3, Vec3};
+use nalgebra::{Matrix3, Vector3};
 use serde::{Deserialize, Serialize};
+
+type V3 = Vector3<f64>;
+type M3 = Matrix3<f64>;
+
+fn v3(a: &Vec3) -> V3 {
+    V3::new(a[0], a[1], a[2])
+}
+
+fn arr(v: &V3) -> Vec3 {
+    [v[0], v[1], v[2]]
+}
 
 /// A point mass rigidly attached to a body at body-frame position `s_m` (relative to the CM of
 /// the body without it). Used for imbalance masses.
@@ -36,28 +48,24 @@ pub struct RigidBody {
 /// Position- and velocity-dependent quantities of one body, computed once per evaluation.
 #[derive(Clone, Copy, Debug)]
 pub struct BodyKinematics {
-    pub r: Vec3,
-    pub rdot: Vec3,
-    pub rot: Mat3,
-    pub h: Mat3,
-    pub omega_b: Vec3,
+    pub r: V3,
+    pub rdot: V3,
+    pub rot: M3,
+    pub h: M3,
+    pub omega_b: V3,
     /// H'(q, q') q'
-    pub hdot_qdot: Vec3,
+    pub hdot_qdot: V3,
 }
 
 /// Rotation matrix Rx(a) Ry(b) Rz(c).
-pub fn rotation(q: &Vec3) -> Mat3 {
+pub fn rotation(q: &Vec3) -> M3 {
     let (sa, ca) = q[0].sin_cos();
     let (sb, cb) = q[1].sin_cos();
     let (sc, cc) = q[2].sin_cos();
-    // Rx * Ry
-    let rxy = [
-        [cb, 0.0, sb],
-        [sa * sb, ca, -sa * cb],
-        [-ca * sb, sa, ca * cb],
-    ];
-    let rz = [[cc, -sc, 0.0], [sc, cc, 0.0], [0.0, 0.0, 1.0]];
-    mat3_mul(&rxy, &rz)
+    // Rx * Ry (rows as written)
+    let rxy = M3::new(cb, 0.0, sb, sa * sb, ca, -sa * cb, -ca * sb, sa, ca * cb);
+    let rz = M3::new(cc, -sc, 0.0, sc, cc, 0.0, 0.0, 0.0, 1.0);
+    rxy * rz
 }
 
 impl BodyKinematics {
@@ -66,17 +74,17 @@ impl BodyKinematics {
         let q = [x[3], x[4], x[5]];
         let (sb, cb) = q[1].sin_cos();
         let (sc, cc) = q[2].sin_cos();
-        let h = [[cb * cc, sc, 0.0], [-cb * sc, cc, 0.0], [sb, 0.0, 1.0]];
+        let h = M3::new(cb * cc, sc, 0.0, -cb * sc, cc, 0.0, sb, 0.0, 1.0);
         let (ad, bd, gd) = (v[3], v[4], v[5]);
-        let omega_b = mat3_vec(&h, &[ad, bd, gd]);
-        let hdot_qdot = [
+        let omega_b = h * V3::new(ad, bd, gd);
+        let hdot_qdot = V3::new(
             -sb * cc * ad * bd + gd * (-cb * sc * ad + cc * bd),
             sb * sc * ad * bd + gd * (-cb * cc * ad - sc * bd),
             cb * ad * bd,
-        ];
+        );
         BodyKinematics {
-            r: [x[0], x[1], x[2]],
-            rdot: [v[0], v[1], v[2]],
+            r: V3::new(x[0], x[1], x[2]),
+            rdot: V3::new(v[0], v[1], v[2]),
             rot: rotation(&q),
             h,
             omega_b,
@@ -86,48 +94,40 @@ impl BodyKinematics {
 
     /// Global position of the body-frame point s.
     pub fn point_pos(&self, s: &Vec3) -> Vec3 {
-        let d = mat3_vec(&self.rot, s);
-        [self.r[0] + d[0], self.r[1] + d[1], self.r[2] + d[2]]
+        arr(&(self.r + self.rot * v3(s)))
     }
 
     /// Global velocity of the body-frame point s: r' + R (omega x s).
     pub fn point_vel(&self, s: &Vec3) -> Vec3 {
-        let d = mat3_vec(&self.rot, &cross(&self.omega_b, s));
-        [
-            self.rdot[0] + d[0],
-            self.rdot[1] + d[1],
-            self.rdot[2] + d[2],
-        ]
+        arr(&(self.rdot + self.rot * self.omega_b.cross(&v3(s))))
     }
 
-    /// Global acceleration of point s given the coordinate accelerations `acc` (6 values).
+    /// Global acceleration of point s given the coordinate accelerations `acc` (6 values):
+    /// r'' + R (omega' x s + omega x (omega x s)), omega' = H q'' + H' q'.
     pub fn point_acc(&self, s: &Vec3, acc: &[f64]) -> Vec3 {
-        let qdd = mat3_vec(&self.h, &[acc[3], acc[4], acc[5]]);
-        let wd = [
-            qdd[0] + self.hdot_qdot[0],
-            qdd[1] + self.hdot_qdot[1],
-            qdd[2] + self.hdot_qdot[2],
-        ];
-        let ws = cross(&self.omega_b, s);
-        let a_b = cross(&wd, s);
-        let c_b = cross(&self.omega_b, &ws);
-        let d = mat3_vec(
-            &self.rot,
-            &[a_b[0] + c_b[0], a_b[1] + c_b[1], a_b[2] + c_b[2]],
-        );
-        [acc[0] + d[0], acc[1] + d[1], acc[2] + d[2]]
+        let s = v3(s);
+        let wd = self.h * V3::new(acc[3], acc[4], acc[5]) + self.hdot_qdot;
+        let c_b = self.omega_b.cross(&self.omega_b.cross(&s));
+        arr(&(V3::new(acc[0], acc[1], acc[2]) + self.rot * (wd.cross(&s) + c_b)))
     }
 
     /// Generalized force (6) of a global force `f` acting at body point `s`:
     /// [f; H^T (s x R^T f)].
     pub fn generalized_force(&self, s: &Vec3, f: &Vec3) -> [f64; 6] {
-        let fb = mat3t_vec(&self.rot, f);
-        let tq = mat3t_vec(&self.h, &cross(s, &fb));
+        let fb = self.rot.tr_mul(&v3(f));
+        let tq = self.h.tr_mul(&v3(s).cross(&fb));
         [f[0], f[1], f[2], tq[0], tq[1], tq[2]]
     }
 }
 
 impl RigidBody {
+    fn inertia(&self) -> M3 {
+        let j = &self.inertia_kg_m2;
+        M3::new(
+            j[0][0], j[0][1], j[0][2], j[1][0], j[1][1], j[1][2], j[2][0], j[2][1], j[2][2],
+        )
+    }
+
     /// Adds the body's 6x6 mass matrix (row-major) to `m6` and its gravity plus
     /// centrifugal/gyroscopic generalized forces to `f6`.
     pub fn inertial_terms(
@@ -142,19 +142,17 @@ impl RigidBody {
             m6[i * 6 + i] += m;
             f6[i] += m * gravity[i];
         }
-        let j = &self.inertia_kg_m2;
-        let jh = mat3_mul(j, &k.h);
-        let ht = transpose3(&k.h);
-        let mrot = mat3_mul(&ht, &jh);
+        let j = self.inertia();
+        // H^T J H
+        let mrot = k.h.transpose() * (j * k.h);
         for i in 0..3 {
             for l in 0..3 {
-                m6[(3 + i) * 6 + 3 + l] += mrot[i][l];
+                m6[(3 + i) * 6 + 3 + l] += mrot[(i, l)];
             }
         }
-        let jw = mat3_vec(j, &k.omega_b);
-        let wjw = cross(&k.omega_b, &jw);
-        let jhq = mat3_vec(j, &k.hdot_qdot);
-        let tq = mat3_vec(&ht, &[-wjw[0] - jhq[0], -wjw[1] - jhq[1], -wjw[2] - jhq[2]]);
+        // H^T (-omega x J omega - J H' q')
+        let wjw = k.omega_b.cross(&(j * k.omega_b));
+        let tq = k.h.transpose() * (-wjw - j * k.hdot_qdot);
         for i in 0..3 {
             f6[3 + i] += tq[i];
         }
@@ -167,34 +165,25 @@ impl RigidBody {
 
     /// Kinetic energy [J].
     pub fn kinetic_energy(&self, k: &BodyKinematics) -> f64 {
-        let jw = mat3_vec(&self.inertia_kg_m2, &k.omega_b);
-        let mut e = 0.5 * self.mass_kg * dot(&k.rdot, &k.rdot) + 0.5 * dot(&k.omega_b, &jw);
+        let jw = self.inertia() * k.omega_b;
+        let mut e = 0.5 * self.mass_kg * k.rdot.dot(&k.rdot) + 0.5 * k.omega_b.dot(&jw);
         for pm in &self.point_masses {
-            let vp = k.point_vel(&pm.s_m);
-            e += 0.5 * pm.mass_kg * dot(&vp, &vp);
+            let vp = v3(&k.point_vel(&pm.s_m));
+            e += 0.5 * pm.mass_kg * vp.dot(&vp);
         }
         e
     }
 
     /// Angular momentum about the global origin [kg m^2/s] (global axes).
     pub fn angular_momentum(&self, k: &BodyKinematics) -> Vec3 {
-        let jw = mat3_vec(&self.inertia_kg_m2, &k.omega_b);
-        let l_cm = mat3_vec(&k.rot, &jw);
-        let p = cross(&k.r, &k.rdot);
-        let mut l = [
-            l_cm[0] + self.mass_kg * p[0],
-            l_cm[1] + self.mass_kg * p[1],
-            l_cm[2] + self.mass_kg * p[2],
-        ];
+        let l_cm = k.rot * (self.inertia() * k.omega_b);
+        let mut l = l_cm + self.mass_kg * k.r.cross(&k.rdot);
         for pm in &self.point_masses {
-            let rp = k.point_pos(&pm.s_m);
-            let vp = k.point_vel(&pm.s_m);
-            let c = cross(&rp, &vp);
-            for i in 0..3 {
-                l[i] += pm.mass_kg * c[i];
-            }
+            let rp = v3(&k.point_pos(&pm.s_m));
+            let vp = v3(&k.point_vel(&pm.s_m));
+            l += pm.mass_kg * rp.cross(&vp);
         }
-        l
+        arr(&l)
     }
 }
 
@@ -209,37 +198,43 @@ fn point_mass_terms(
     f6: &mut [f64; 6],
 ) {
     let m = pm.mass_kg;
-    let s = &pm.s_m;
+    let s = v3(&pm.s_m);
     // B columns: B e_j = -R (s x H e_j) = R ((H e_j) x s)
-    let mut b = [[0.0; 3]; 3];
-    for jc in 0..3 {
-        let hj = [k.h[0][jc], k.h[1][jc], k.h[2][jc]];
-        let col = mat3_vec(&k.rot, &cross(&hj, s));
-        for i in 0..3 {
-            b[i][jc] = col[i];
-        }
-    }
-    let btb = mat3_mul(&transpose3(&b), &b);
+    let b = M3::from_columns(&[0, 1, 2].map(|jc| k.rot * k.h.column(jc).cross(&s)));
+    let btb = b.transpose() * b;
     for i in 0..3 {
         m6[i * 6 + i] += m;
         for jc in 0..3 {
-            m6[i * 6 + 3 + jc] += m * b[i][jc];
-            m6[(3 + jc) * 6 + i] += m * b[i][jc];
-            m6[(3 + i) * 6 + 3 + jc] += m * btb[i][jc];
+            m6[i * 6 + 3 + jc] += m * b[(i, jc)];
+            m6[(3 + jc) * 6 + i] += m * b[(i, jc)];
+            m6[(3 + i) * 6 + 3 + jc] += m * btb[(i, jc)];
         }
     }
-    let ws = cross(&k.omega_b, s);
-    let t1 = cross(&k.hdot_qdot, s);
-    let t2 = cross(&k.omega_b, &ws);
-    let aq = mat3_vec(&k.rot, &[t1[0] + t2[0], t1[1] + t2[1], t1[2] + t2[2]]);
-    let fp = [
-        m * (gravity[0] - aq[0]),
-        m * (gravity[1] - aq[1]),
-        m * (gravity[2] - aq[2]),
-    ];
-    let bt = mat3t_vec(&b, &fp);
+    let aq = k.rot * (k.hdot_qdot.cross(&s) + k.omega_b.cross(&k.omega_b.cross(&s)));
+    let fp = m * (v3(gravity) - aq);
+    let bt = b.tr_mul(&fp);
     for i in 0..3 {
         f6[i] += fp[i];
         f6[3 + i] += bt[i];
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Rotation3, Unit};
+
+    /// R = Rx(a) Ry(b) Rz(c), checked against nalgebra's axis rotations; orthonormal.
+    #[test]
+    fn rotation_is_the_cardan_sequence() {
+        for q in [[0.1, -0.2, 0.3], [1e-4, 2e-4, 5.0], [-1.0, 0.7, -2.5]] {
+            let r = rotation(&q);
+            let axis = |v: V3| Unit::new_normalize(v);
+            let expect = Rotation3::from_axis_angle(&axis(V3::x()), q[0])
+                * Rotation3::from_axis_angle(&axis(V3::y()), q[1])
+                * Rotation3::from_axis_angle(&axis(V3::z()), q[2]);
+            assert!((r - expect.matrix()).abs().max() < 1e-15, "{q:?}");
+            assert!((r.transpose() * r - M3::identity()).abs().max() < 1e-15);
+        }
     }
 }

@@ -1,4 +1,5 @@
-//! Small dense linear algebra: LU with partial pivoting (row-major), 3x3 helpers.
+//! Small dense linear algebra: LU with partial pivoting (row-major); the 3x3 array types the
+//! serialized parameters use (the bodies compute with nalgebra, body.rs).
 //!
 //! The LU serves the 56 x 56 GGL iteration matrix (factored now and then, solved at every Newton
 //! iteration) and the 8 x 8 lateral mass matrix. The factorization is written out here: the GGL
@@ -6,63 +7,13 @@
 //! it 2.7 times faster than faer's dense `lu_in_place` on that matrix (BENCHMARKS.md, "faer
 //! (session 7)"). The two triangular solves are faer's, 1.6 times faster than the former plain
 //! loops. The factors are plain data, serializable, so a restored `Rotor` reuses them
-//! bit-identically. The 3x3 helpers stay plain functions on arrays, the types the multibody code
-//! uses throughout. Kernel tests: tests/linalg_kernels.rs.
+//! bit-identically. Kernel tests: tests/linalg_kernels.rs.
 
 use crate::params::RotorError;
 use serde::{Deserialize, Serialize};
 
 pub type Vec3 = [f64; 3];
 pub type Mat3 = [[f64; 3]; 3];
-
-pub fn mat3_vec(a: &Mat3, v: &Vec3) -> Vec3 {
-    [
-        a[0][0] * v[0] + a[0][1] * v[1] + a[0][2] * v[2],
-        a[1][0] * v[0] + a[1][1] * v[1] + a[1][2] * v[2],
-        a[2][0] * v[0] + a[2][1] * v[1] + a[2][2] * v[2],
-    ]
-}
-
-/// a^T v
-pub fn mat3t_vec(a: &Mat3, v: &Vec3) -> Vec3 {
-    [
-        a[0][0] * v[0] + a[1][0] * v[1] + a[2][0] * v[2],
-        a[0][1] * v[0] + a[1][1] * v[1] + a[2][1] * v[2],
-        a[0][2] * v[0] + a[1][2] * v[1] + a[2][2] * v[2],
-    ]
-}
-
-pub fn mat3_mul(a: &Mat3, b: &Mat3) -> Mat3 {
-    let mut c = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            c[i][j] = a[i][0] * b[0][j] + a[i][1] * b[1][j] + a[i][2] * b[2][j];
-        }
-    }
-    c
-}
-
-pub fn transpose3(a: &Mat3) -> Mat3 {
-    let mut c = [[0.0; 3]; 3];
-    for i in 0..3 {
-        for j in 0..3 {
-            c[i][j] = a[j][i];
-        }
-    }
-    c
-}
-
-pub fn cross(a: &Vec3, b: &Vec3) -> Vec3 {
-    [
-        a[1] * b[2] - a[2] * b[1],
-        a[2] * b[0] - a[0] * b[2],
-        a[0] * b[1] - a[1] * b[0],
-    ]
-}
-
-pub fn dot(a: &Vec3, b: &Vec3) -> f64 {
-    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-}
 
 /// LU factors of a square matrix, P A = L U, stored row-major in one buffer.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
