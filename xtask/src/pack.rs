@@ -91,7 +91,7 @@ fn pack(info: &ModelInfo, so: &std::path::Path, fmu: &std::path::Path) -> Result
     let mut zip = zip::ZipWriter::new(file);
     let opts = zip::write::SimpleFileOptions::default()
         .compression_method(zip::CompressionMethod::Deflated);
-    let entries: [(String, Vec<u8>); 3] = [
+    let mut entries: Vec<(String, Vec<u8>)> = vec![
         (
             "modelDescription.xml".into(),
             fmi2::xml::model_description(info).into_bytes(),
@@ -105,6 +105,23 @@ fn pack(info: &ModelInfo, so: &std::path::Path, fmu: &std::path::Path) -> Result
             fmi2::xml::documentation(info).into_bytes(),
         ),
     ];
+    // Reference results in the FMI Cross-Check layout (scripts/make_reference_results.py).
+    let reference = root()
+        .join("modelDescriptions/reference")
+        .join(info.model_identifier);
+    if let Ok(dir) = std::fs::read_dir(&reference) {
+        let mut files: Vec<std::path::PathBuf> = dir.flatten().map(|e| e.path()).collect();
+        files.sort();
+        for f in files.into_iter().filter(|f| f.is_file()) {
+            let name = f
+                .file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned();
+            let data = std::fs::read(&f).map_err(|e| format!("{}: {e}", f.display()))?;
+            entries.push((format!("documentation/reference/{name}"), data));
+        }
+    }
     for (name, data) in entries {
         zip.start_file(name, opts).map_err(|e| e.to_string())?;
         zip.write_all(&data).map_err(|e| e.to_string())?;
