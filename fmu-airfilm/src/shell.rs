@@ -348,3 +348,47 @@ impl Model for AirFilmFmu {
 
 #[cfg(feature = "fmu")]
 fmi2::export_fmu!(AirFilmFmu);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct NoLog;
+    impl Log for NoLog {
+        fn debug(&mut self, _category: &str, _message: &str) {}
+        fn warning(&mut self, _message: &str) {}
+    }
+
+    /// A step whose outputs would come out NaN or infinite (here: a film whose pressures overflow
+    /// the force integral) is an error, and the outputs keep their last good values: a master
+    /// never reads inf from this FMU, whatever the solver said about the step.
+    #[test]
+    fn a_step_with_non_finite_outputs_is_an_error_and_keeps_the_last_good_outputs() {
+        let info = AirFilmFmu::info();
+        let mut store = Store::from_info(&info);
+        store.integers[vr::N_ELEM_PHI as usize] = 8;
+        store.integers[vr::N_ELEM_Z as usize] = 2;
+        store.reals[vr::OMEGA as usize] = std::f64::consts::TAU * 1000.0;
+        let mut m = AirFilmFmu::new(&store, 0.0, &mut NoLog).unwrap();
+        let good = m.outputs;
+        assert!(good.all_finite());
+        let n = m.film.pressures_rel().len();
+        let j = m.film.journal();
+        m.film.set_pressures_rel(0.0, j, &vec![1e307; n]).unwrap();
+        let inputs = Inputs {
+            t0: 0.0,
+            values: store.reals.clone(),
+            derivatives: vec![[0.0; fmi2::MAX_INPUT_DERIVATIVE_ORDER]; store.reals.len()],
+        };
+        match m.do_step(0.0, 1e-5, &inputs, &mut NoLog) {
+            StepOutcome::Error(e) => assert!(e.contains("NaN or infinite"), "{e}"),
+            other => panic!("expected an error, got {other:?}"),
+        }
+        assert_eq!(m.outputs, good);
+        let mut out = store.clone();
+        m.write_outputs(&mut out);
+        for v in [vr::FX, vr::FY, vr::EPS, vr::POWER_LOSS] {
+            assert!(out.reals[v as usize].is_finite());
+        }
+    }
+}
