@@ -107,6 +107,31 @@ fn main() {
         per(after.n_jacobians, before.n_jacobians)
     );
 
+    // The outputs the FMU reads after each communication step (forces, diagnostics, friction),
+    // and the friction integral alone (fmu_airfilm::friction).
+    let (mut t_out, mut t_fric) = (Vec::new(), Vec::new());
+    let mesh = fmu_airfilm::mesh::Mesh::new(&prm);
+    let geom = fmu_airfilm::geometry::Geometry::new(&prm, &mesh);
+    for _ in 0..200 {
+        let t = Instant::now();
+        std::hint::black_box(film.outputs());
+        t_out.push(t.elapsed().as_secs_f64());
+        let t = Instant::now();
+        std::hint::black_box(fmu_airfilm::friction::friction_torque(
+            &prm,
+            &mesh,
+            &geom,
+            &film.journal(),
+            film.pressures_rel(),
+        ));
+        t_fric.push(t.elapsed().as_secs_f64());
+    }
+    println!(
+        "outputs after a step: median {:.2} us, of which friction median {:.2} us",
+        median(t_out) * 1e6,
+        median(t_fric) * 1e6
+    );
+
     // State save for the master's roll-back (fmi2GetFMUstate): a fresh copy, and a copy into a
     // reused state (the handle the master passes back), between two communication steps.
     let mut t_clone = Vec::new();

@@ -22,8 +22,8 @@
 //! Checked against Petroff's law T = 2 pi eta Omega r^3 b / C (concentric plain bore, exact), the
 //! eccentric Couette integral 2 pi / (C sqrt(1 - eps^2)), and by mesh convergence (tests below).
 
-use crate::geometry::gap_m;
-use crate::mesh::{shape1, Mesh, GAUSS3_W, GAUSS3_X};
+use crate::geometry::Geometry;
+use crate::mesh::Mesh;
 use crate::params::BearingParams;
 use crate::JournalState;
 
@@ -60,42 +60,54 @@ const GAUSS4_W: [f64; 4] = [
 ];
 
 /// Friction torque of the film with the relative nodal pressures `p` (p / p_a) at journal state `j`.
+/// The gap at the Gauss points comes from `geom`'s precomputed angles (no trigonometry per call:
+/// this runs after every communication step) and is floored like the Reynolds coefficients'
+/// (`Geometry::h_floor_rel`), so a closing gap gives a large, finite Couette shear.
 pub fn friction_torque(
     prm: &BearingParams,
     mesh: &Mesh,
+    geom: &Geometry,
     j: &JournalState,
     p: &[f64],
 ) -> FrictionTorque {
     let r = prm.bore.r_m;
+    let c = prm.bore.c_m;
     let eta = prm.eta_pa_s;
     let u = j.omega_rad_s * r;
+    let (ex, ey) = (j.dx_m / c, j.dy_m / c);
+    let b = &mesh.basis;
     let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
+    // The gap h / C at the phi-Gauss points (shared by every element of a column and by the three
+    // zeta points): computed, and inverted, once per call.
+    let h_rel: Vec<f64> = (0..mesh.n_blocks * geom.nq)
+        .map(|gi| {
+            (1.0 - ex * geom.cos_q[gi] - ey * geom.sin_q[gi] + geom.step_q[gi])
+                .max(geom.h_floor_rel)
+        })
+        .collect();
+    let inv_h: Vec<f64> = h_rel.iter().map(|h| 1.0 / h).collect();
+    // Int dphi dzeta of 1 / H and of H dP/dphi over the lobes.
     let (mut couette, mut poiseuille) = (0.0, 0.0);
     for k in 0..mesh.n_blocks {
         let pb = &p[k * mesh.npb..(k + 1) * mesh.npb];
         for (e, nodes) in mesh.elem.iter().enumerate() {
             let col = mesh.elem_col[e] as usize;
-            for qa in 0..3 {
-                let s = mesh.gauss_phi(col, qa);
-                let h = gap_m(&prm.bore, k, s, j);
-                let (_, dnx) = shape1(GAUSS3_X[qa]);
-                for qb in 0..3 {
-                    let (ny, _) = shape1(GAUSS3_X[qb]);
-                    // dP/dphi at the Gauss point.
-                    let mut dp = 0.0;
-                    for a in 0..3 {
-                        for c in 0..3 {
-                            dp += dnx[a] * ny[c] * pb[nodes[3 * a + c] as usize];
-                        }
-                    }
-                    let dp_dphi = dp * 2.0 / mesh.dphi_e;
-                    let w = GAUSS3_W[qa] * GAUSS3_W[qb] * jac;
-                    couette += w * eta * u / h;
-                    poiseuille += w * h * prm.p_a_pa * dp_dphi / (2.0 * r);
+            for q in 0..9 {
+                let gi = k * geom.nq + 3 * col + q / 3;
+                // dP/dxi at the Gauss point (dP/dphi = 2 / dphi_e of it).
+                let mut dp = 0.0;
+                for a in 0..9 {
+                    dp += b.dx[q][a] * pb[nodes[a] as usize];
                 }
+                let w = b.w[q] * jac;
+                couette += w * inv_h[gi];
+                poiseuille += w * h_rel[gi] * dp;
             }
         }
     }
+    // tau = eta U / h + (h / 2) dp / (r dphi), h = C H, dp = p_a dP.
+    let couette = couette * eta * u / c;
+    let poiseuille = poiseuille * c * prm.p_a_pa * (2.0 / mesh.dphi_e) / (2.0 * r);
     // Meshed half width, dA = r dphi r dzeta: T = 2 r^3 Int tau dphi dzeta.
     let lobes = 2.0 * r * r * r;
     let mut pockets = 0.0;
@@ -155,7 +167,8 @@ mod tests {
         let (prm, mesh) = plain(16, 4);
         let omega = 2.0 * PI * 1000.0;
         let p = vec![1.0; mesh.n_blocks * mesh.npb];
-        let t = friction_torque(&prm, &mesh, &at(0.0, 0.0, omega), &p);
+        let geom = Geometry::new(&prm, &mesh);
+        let t = friction_torque(&prm, &mesh, &geom, &at(0.0, 0.0, omega), &p);
         let b = &prm.bore;
         let petroff = 2.0 * PI * prm.eta_pa_s * omega * b.r_m.powi(3) * b.b_m / b.c_m;
         assert!(
@@ -178,7 +191,8 @@ mod tests {
             let (prm, mesh) = plain(ne, 2);
             let b = &prm.bore;
             let p = vec![1.0; mesh.n_blocks * mesh.npb];
-            let t = friction_torque(&prm, &mesh, &at(eps * b.c_m, 0.0, omega), &p);
+            let geom = Geometry::new(&prm, &mesh);
+            let t = friction_torque(&prm, &mesh, &geom, &at(eps * b.c_m, 0.0, omega), &p);
             let exact = prm.eta_pa_s * omega * b.r_m.powi(3) * b.b_m * 2.0 * PI
                 / (b.c_m * (1.0 - eps * eps).sqrt());
             errors.push((t.couette_lobes_nm - exact).abs() / exact);
@@ -206,7 +220,8 @@ mod tests {
                 ..BearingParams::default()
             };
             let s = crate::steady_state(&prm, j).expect("steady state");
-            last = friction_torque(&prm, &s.mesh, &j, &s.p_rel);
+            let geom = Geometry::new(&prm, &s.mesh);
+            last = friction_torque(&prm, &s.mesh, &geom, &j, &s.p_rel);
             totals.push(last.total_nm());
         }
         println!("friction torque at 1000 Hz on meshes 8x2, 16x4, 32x8: {totals:?} N m; {last:?}");

@@ -695,7 +695,7 @@ pub(crate) fn outputs_for(
     let fc = contact::contact_force_n(&prm.bore, &prm.contact, j, h_min_m);
     let p_max = p.iter().cloned().fold(f64::NEG_INFINITY, f64::max) * prm.p_a_pa;
     let in_force = if prm.contact_in_force { 1.0 } else { 0.0 };
-    let friction_torque_nm = crate::friction::friction_torque(prm, mesh, j, p).total_nm();
+    let friction_torque_nm = crate::friction::friction_torque(prm, mesh, geom, j, p).total_nm();
     FilmOutputs {
         fx_n: fp[0] + in_force * fc[0],
         fy_n: fp[1] + in_force * fc[1],
