@@ -170,26 +170,6 @@ pub fn checksum_continue(h: u64, bytes: &[u8]) -> u64 {
         .fold(h, |h, b| (h ^ u64::from(*b)).wrapping_mul(0x0100_0000_01b3))
 }
 
-/// Writes `bytes` to a temporary file, syncs it, renames it to `path` and syncs the folder, so
-/// `path` holds either its old or its new content, whole, also after a crash.
-fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    use std::io::Write;
-    let tmp = path.with_extension("tmp");
-    let written = std::fs::File::create(&tmp).and_then(|mut f| {
-        f.write_all(bytes)?;
-        f.sync_all()
-    });
-    if let Err(e) = written.and_then(|()| std::fs::rename(&tmp, path)) {
-        // A full disk: the partial file would only take the space the next attempt needs.
-        let _ = std::fs::remove_file(&tmp);
-        return Err(e);
-    }
-    if let Some(parent) = path.parent() {
-        std::fs::File::open(parent)?.sync_all()?;
-    }
-    Ok(())
-}
-
 fn state_file(name: &str, tag: Option<&str>) -> String {
     match tag {
         Some(t) => format!("{name}.{t}.state"),
@@ -216,7 +196,7 @@ fn write_states(
     let tag = new_tag(step_index);
     let mut checks: Vec<StateCheck> = Vec::with_capacity(names.len());
     for (n, s) in names.iter().zip(states) {
-        if let Err(e) = write_atomic(&cp.join(state_file(n, Some(&tag))), s) {
+        if let Err(e) = crate::files::write_whole(&cp.join(state_file(n, Some(&tag))), s) {
             // The generation is incomplete: its files are garbage (the previous one still holds).
             for done in &checks {
                 let _ = std::fs::remove_file(cp.join(state_file(&done.0, Some(&tag))));
@@ -245,7 +225,7 @@ pub fn write(
         ..master.clone()
     };
     let current: Vec<String> = names.iter().map(|n| state_file(n, Some(&tag))).collect();
-    if let Err(e) = write_atomic(
+    if let Err(e) = crate::files::write_whole(
         &cp.join("master.json"),
         serde_json::to_string_pretty(&master)
             .expect("plain data")
@@ -345,7 +325,7 @@ mod tests {
         let cp = dir.join("checkpoint");
         write_states(&cp, &names, &[vec![3; 7], vec![4; 7]], 20).unwrap();
         // ... also with a half-written master.json.tmp left behind.
-        std::fs::write(cp.join("master.tmp"), "{ \"format\": 1, \"t_b").unwrap();
+        std::fs::write(cp.join("master.json.tmp"), "{ \"format\": 1, \"t_b").unwrap();
         let (m, states) = read(&dir, &names).unwrap();
         assert_eq!(m.step_index, 10);
         assert_eq!(states, [vec![1; 100], vec![2; 50]]);

@@ -20,6 +20,7 @@ pub mod algorithm;
 pub mod checkpoint;
 pub mod error;
 pub mod execution;
+pub mod files;
 pub mod observer;
 pub mod parallel;
 pub mod polynomial;
