@@ -1,8 +1,7 @@
 //! `airring modal`: eigenfrequencies and mode shapes of the rotor on linear film springs
 //! (paper Section 2.3), at one or more speeds (Campbell data), printed and written to modal.json.
 
-use crate::plot::axes::Axes;
-use crate::plot::canvas::{Canvas, Rgb, Role};
+use crate::plot::{Chart, Figure, Rgb, Role};
 use fmu_rotor::linear::{lateral_matrices, modes, Whirl};
 use fmu_rotor::{FilmCoefficients, RotorParams};
 use std::path::Path;
@@ -87,7 +86,7 @@ pub fn modal(
 
 /// Campbell diagram of the undamped modes: one line per mode rank (sorted by frequency at each
 /// speed), each segment red for forward and blue for backward whirl at its end.
-fn campbell(v: &serde_json::Value) -> Canvas {
+fn campbell(v: &serde_json::Value) -> Chart {
     let table = v["campbell"].as_array().cloned().unwrap_or_default();
     let speed = |row: &serde_json::Value| row["speed_hz"].as_f64().unwrap_or(0.0);
     let freqs = |row: &serde_json::Value| -> Vec<(f64, bool)> {
@@ -114,13 +113,14 @@ fn campbell(v: &serde_json::Value) -> Canvas {
     // A single speed still gets a visible short tick per mode.
     let pad = if s_max > s_min { 0.0 } else { 10.0 };
     let (w, h) = (900, 560);
-    let mut c = Canvas::new(w, h);
-    let ax = Axes::standard(w, h, (s_min - pad, s_max + pad), (0.0, 1.1 * f_max));
-    ax.draw(
-        &mut c,
+    let mut c = Chart::new(
+        w,
+        h,
         "Campbell diagram (rotor on linear film springs, undamped)",
         "rotor speed [Hz]",
         "eigenfrequency [Hz]",
+        (s_min - pad, s_max + pad),
+        (0.0, 1.1 * f_max),
     );
     let n = table.iter().map(|r| freqs(r).len()).min().unwrap_or(0);
     let segments: Vec<(&serde_json::Value, &serde_json::Value)> = if table.len() == 1 {
@@ -137,8 +137,8 @@ fn campbell(v: &serde_json::Value) -> Canvas {
                 (speed(a), speed(b))
             };
             let colour = if fb.1 { Rgb::RED } else { Rgb::BLUE };
-            c.polyline(
-                ax.map_all([(xa, fa.0), (xb, fb.0)]),
+            c.line(
+                [(xa, fa.0), (xb, fb.0)],
                 colour,
                 1.6,
                 false,
@@ -147,9 +147,39 @@ fn campbell(v: &serde_json::Value) -> Canvas {
             );
         }
     }
-    ax.legend(
-        &mut c,
-        &[("forward whirl", Rgb::RED), ("backward whirl", Rgb::BLUE)],
-    );
+    c.legend(&[("forward whirl", Rgb::RED), ("backward whirl", Rgb::BLUE)]);
     c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The Campbell figure of three speeds and four modes: a segment per mode and speed interval,
+    /// coloured by whirl direction, and clean text.
+    #[test]
+    fn campbell_figure_has_a_segment_per_mode_and_interval_and_clean_text() {
+        let row = |s: f64| {
+            serde_json::json!({"speed_hz": s, "modes": [
+                {"freq_hz": 150.0 - 0.01 * s, "whirl": "backward"},
+                {"freq_hz": 160.0 + 0.01 * s, "whirl": "forward"},
+                {"freq_hz": 400.0 - 0.05 * s, "whirl": "backward"},
+                {"freq_hz": 420.0 + 0.05 * s, "whirl": "forward"}]})
+        };
+        let v = serde_json::json!({"campbell": [row(100.0), row(1000.0), row(2000.0)]});
+        let svg = campbell(&v).to_svg().unwrap();
+        let doc = roxmltree::Document::parse(&svg).unwrap();
+        let series: Vec<_> = doc
+            .descendants()
+            .filter(|n| n.attribute("class") == Some("series"))
+            .collect();
+        assert_eq!(series.len(), 4 * 2);
+        let red = series
+            .iter()
+            .filter(|n| n.attribute("stroke") == Some("#d62728"))
+            .count();
+        assert_eq!(red, 4, "forward whirl segments");
+        let bad = crate::plot::layout::problems(&svg);
+        assert!(bad.is_empty(), "{bad:#?}");
+    }
 }

@@ -190,6 +190,12 @@ fn a_run_shorter_than_the_persistence_window_is_too_short_to_classify() {
         (last[power] - last[torque] * omega).abs() <= 1e-9 * last[power],
         "{last:?}"
     );
+    // Every figure: real type, no text on other text or outside the figure.
+    for p in plots.iter().filter(|p| p.ends_with(".svg")) {
+        let svg = std::fs::read_to_string(dir.join(p)).unwrap();
+        let bad = master::plot::layout::problems(&svg);
+        assert!(bad.is_empty(), "{p}: {bad:#?}");
+    }
     // One page with all of it: class, criteria, power loss, every figure inline, the data files.
     let n_svg = plots.iter().filter(|p| p.ends_with(".svg")).count();
     assert!(n_svg >= 7, "{plots:?}");

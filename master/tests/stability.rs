@@ -148,6 +148,8 @@ fn stability_command_writes_report_and_figures() {
     let total: usize = per_speed.iter().sum();
     for stem in ["campbell", "damping", "locus", "eccentricity"] {
         let text = std::fs::read_to_string(dir.join(format!("{stem}.svg"))).unwrap();
+        let bad = master::plot::layout::problems(&text);
+        assert!(bad.is_empty(), "{stem}: {bad:#?}");
         let doc = roxmltree::Document::parse(&text).unwrap();
         let s = series_points(&doc);
         let mut names: Vec<&str> = s.iter().map(|(n, _)| n.as_str()).collect();
@@ -313,6 +315,9 @@ fn unbalance_response_matches_a_nonlinear_runup_in_the_linear_regime() {
         assert!(
             lin.join(format!("{stem}.svg")).exists() && lin.join(format!("{stem}.png")).exists()
         );
+        let svg = std::fs::read_to_string(lin.join(format!("{stem}.svg"))).unwrap();
+        let bad = master::plot::layout::problems(&svg);
+        assert!(bad.is_empty(), "{stem}: {bad:#?}");
     }
     // The run-up's series and its spin angle (trapezoid of omega).
     let csv = std::fs::read_to_string(nonlin.join("timeseries.csv")).unwrap();

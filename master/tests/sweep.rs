@@ -308,6 +308,53 @@ fn maps_mark_every_class_with_onset_speed_per_case() {
     assert!(
         maps[1].extension().unwrap() == "png" && std::fs::metadata(&maps[1]).unwrap().len() > 1000
     );
+    let bad = master::plot::layout::problems(&svg);
+    assert!(bad.is_empty(), "{bad:#?}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A map larger than the paper's 3 x 3: 7 c values, 6 d values, 5 step heights (two rows of
+/// panels), every cell kind (onset speeds, failed and interrupted runs, a borderline class): no
+/// text overlaps other text or leaves its panel, and the PNG has the SVG's size.
+#[test]
+fn large_maps_keep_their_text_apart_and_inside_the_panels() {
+    let dir = tmp("large-map");
+    let classes = [
+        ("stable", None),
+        ("path1", Some(1234.0)),
+        ("path2a", Some(900.0)),
+        ("path2b", Some(700.0)),
+        ("unstable_low_speed", Some(150.0)),
+        ("failed", None),
+        ("unstable_linear", Some(1999.0)),
+    ];
+    let mut k = 0;
+    for dh in [0.0, 10.0, 20.0, 30.0, 40.0] {
+        for c in [100.0, 250.0, 500.0, 1000.0, 1500.0, 2000.0, 10000.0] {
+            for d in [5.0, 50.0, 200.0, 500.0, 2000.0, 20000.0] {
+                let (class, onset) = classes[k % classes.len()];
+                fake(&dir, k, c, d, dh, class, onset);
+                k += 1;
+            }
+        }
+    }
+    let (_, maps, n) = master::sweep::merge(std::slice::from_ref(&dir), &dir).unwrap();
+    assert_eq!(n, 5 * 7 * 6);
+    let svg = std::fs::read_to_string(&maps[0]).unwrap();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let panels = doc
+        .descendants()
+        .filter(|n| n.attribute("class") == Some("panel"))
+        .count();
+    assert_eq!(panels, 5);
+    let bad = master::plot::layout::problems(&svg);
+    assert!(bad.is_empty(), "{bad:#?}");
+    let png = std::fs::read(&maps[1]).unwrap();
+    let w = u32::from_be_bytes(png[16..20].try_into().unwrap());
+    let h = u32::from_be_bytes(png[20..24].try_into().unwrap());
+    let root = doc.root_element();
+    assert_eq!(root.attribute("width"), Some(w.to_string().as_str()));
+    assert_eq!(root.attribute("height"), Some(h.to_string().as_str()));
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -669,6 +716,8 @@ fn a_grid_over_another_parameter_gets_its_own_map() {
         ]
     );
     let svg = std::fs::read_to_string(dir.join("bifurcation_map_step_height.svg")).unwrap();
+    let bad = master::plot::layout::problems(&svg);
+    assert!(bad.is_empty(), "{bad:#?}");
     let doc = roxmltree::Document::parse(&svg).unwrap();
     let at = |label: &str| text_at(&doc, label);
     at("dH [um]");

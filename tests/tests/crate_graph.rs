@@ -73,7 +73,7 @@ fn the_cosim_library_links_no_physics_and_no_application_crates() {
         "master",
         "clap",
         "parquet",
-        "tiny-skia",
+        "plotters",
         "rustfft",
     ] {
         assert!(

@@ -1,7 +1,7 @@
 //! The six run-up figures.
 
-use super::axes::{decimate_minmax, Axes};
-use super::canvas::{Anchor, Canvas, Item, Rgb, Role};
+use super::chart::{decimate_minmax, Chart, Heatmap};
+use super::{Anchor, Rgb, Role};
 use crate::analysis::{spectrogram, Bearing, Classification, RunSeries};
 use bearing::Bore;
 
@@ -35,15 +35,21 @@ fn two_series(
     b: (&[f64], &str),
     title: &str,
     ylabel: &str,
-) -> Canvas {
+) -> Chart {
     let t = t_ms(series);
-    let mut c = Canvas::new(W, H);
-    let ax = Axes::standard(W, H, range(&[&t]), range(&[a.0, b.0]));
-    ax.draw(&mut c, title, "t [ms]", ylabel);
-    let buckets = ax.width as usize;
+    let mut c = Chart::new(
+        W,
+        H,
+        title,
+        "t [ms]",
+        ylabel,
+        range(&[&t]),
+        range(&[a.0, b.0]),
+    );
+    let buckets = c.frame_width_px();
     for ((ys, name), color) in [(a, Rgb::BLUE), (b, Rgb::RED)] {
-        c.polyline(
-            ax.map_all(decimate_minmax(&t, ys, buckets)),
+        c.line(
+            decimate_minmax(&t, ys, buckets),
             color,
             1.2,
             false,
@@ -52,36 +58,19 @@ fn two_series(
         );
     }
     if let (Some(t_on), Some(f_on)) = (class.onset_time_s, class.onset_speed_hz) {
-        let (px, _) = ax.map(t_on * 1e3, ax.y.0);
-        c.polyline(
-            vec![(px, ax.top), (px, ax.top + ax.height)],
-            Rgb::BLACK,
-            1.0,
-            true,
-            Role::Marker,
-            "onset",
-        );
         let label = format!(
             "onset {:.0} ms ({:.0} Hz), {}",
             t_on * 1e3,
             f_on,
             class.class.as_str()
         );
-        // Below the legend box (top right, 46 px high); to the left of the marker when the
-        // label (~0.6 em per character) would run past the right edge.
-        let y = ax.top + 64.0;
-        let width = 0.6 * 12.0 * label.chars().count() as f64;
-        if px + 4.0 + width > ax.left + ax.width {
-            c.text(px - 4.0, y, &label, 12.0, Anchor::End);
-        } else {
-            c.text(px + 4.0, y, &label, 12.0, Anchor::Start);
-        }
+        c.marker(t_on * 1e3, "onset", Some(label));
     }
-    ax.legend(&mut c, &[(a.1, Rgb::BLUE), (b.1, Rgb::RED)]);
+    c.legend(&[(a.1, Rgb::BLUE), (b.1, Rgb::RED)]);
     c
 }
 
-pub fn eps(series: &RunSeries, class: &Classification) -> Canvas {
+pub fn eps(series: &RunSeries, class: &Classification) -> Chart {
     let ec = series.eps(Bearing::C);
     let et = series.eps(Bearing::T);
     two_series(
@@ -95,25 +84,26 @@ pub fn eps(series: &RunSeries, class: &Classification) -> Canvas {
 }
 
 /// Friction power loss of both films and their sum against speed.
-pub fn power_loss(speed_hz: &[f64], p_c_w: &[f64], p_t_w: &[f64]) -> Canvas {
+pub fn power_loss(speed_hz: &[f64], p_c_w: &[f64], p_t_w: &[f64]) -> Chart {
     let total: Vec<f64> = p_c_w.iter().zip(p_t_w).map(|(a, b)| a + b).collect();
-    let mut c = Canvas::new(W, H);
-    let ax = Axes::standard(W, H, range(&[speed_hz]), range(&[p_c_w, p_t_w, &total]));
-    ax.draw(
-        &mut c,
+    let mut c = Chart::new(
+        W,
+        H,
         "Friction power loss of the air films",
         "speed [Hz]",
         "P [W]",
+        range(&[speed_hz]),
+        range(&[p_c_w, p_t_w, &total]),
     );
-    let buckets = ax.width as usize;
+    let buckets = c.frame_width_px();
     let lines = [
         (p_c_w, "bearing C", Rgb::BLUE),
         (p_t_w, "bearing T", Rgb::RED),
         (&total[..], "both", Rgb::BLACK),
     ];
     for (ys, name, color) in lines {
-        c.polyline(
-            ax.map_all(decimate_minmax(speed_hz, ys, buckets)),
+        c.line(
+            decimate_minmax(speed_hz, ys, buckets),
             color,
             1.2,
             false,
@@ -121,18 +111,15 @@ pub fn power_loss(speed_hz: &[f64], p_c_w: &[f64], p_t_w: &[f64]) -> Canvas {
             name,
         );
     }
-    ax.legend(
-        &mut c,
-        &[
-            ("bearing C", Rgb::BLUE),
-            ("bearing T", Rgb::RED),
-            ("both", Rgb::BLACK),
-        ],
-    );
+    c.legend(&[
+        ("bearing C", Rgb::BLUE),
+        ("bearing T", Rgb::RED),
+        ("both", Rgb::BLACK),
+    ]);
     c
 }
 
-pub fn y_journal(series: &RunSeries, class: &Classification) -> Canvas {
+pub fn y_journal(series: &RunSeries, class: &Classification) -> Chart {
     let yc: Vec<f64> = series.y_jc_m.iter().map(|v| v * 1e6).collect();
     let yt: Vec<f64> = series.y_jt_m.iter().map(|v| v * 1e6).collect();
     two_series(
@@ -163,7 +150,7 @@ fn colormap(v: f64) -> Rgb {
 }
 
 /// Spectrogram of y_J of one bearing vs time as a colour map (dB), with the 1x line.
-pub fn waterfall(series: &RunSeries, b: Bearing) -> Canvas {
+pub fn waterfall(series: &RunSeries, b: Bearing) -> Chart {
     let y = match b {
         Bearing::C => &series.y_jc_m,
         Bearing::T => &series.y_jt_m,
@@ -171,7 +158,6 @@ pub fn waterfall(series: &RunSeries, b: Bearing) -> Canvas {
     let dt = series.dt_s();
     let duration =
         series.t_s.last().copied().unwrap_or(0.0) - series.t_s.first().copied().unwrap_or(0.0);
-    let mut c = Canvas::new(W, H);
     let top_hz = series.max_speed_hz();
     let title = format!(
         "Spectrum of y_J{} (Hann {:.0} ms, dB re max)",
@@ -179,13 +165,11 @@ pub fn waterfall(series: &RunSeries, b: Bearing) -> Canvas {
         WATERFALL_WINDOW_S * 1e3
     );
     if dt <= 0.0 || duration < WATERFALL_WINDOW_S {
-        let ax = Axes::standard(W, H, (0.0, 1.0), (0.0, 1.0));
-        ax.draw(&mut c, &title, "t [ms]", "f [Hz]");
-        c.text(
-            W as f64 / 2.0,
-            H as f64 / 2.0,
+        let mut c = Chart::new(W, H, &title, "t [ms]", "f [Hz]", (0.0, 1.0), (0.0, 1.0));
+        c.label(
+            (0.5, 0.5),
+            (0, 0),
             "run shorter than one window",
-            14.0,
             Anchor::Middle,
         );
         return c;
@@ -210,59 +194,50 @@ pub fn waterfall(series: &RunSeries, b: Bearing) -> Canvas {
     let x_lo = (sg.times_s.first().copied().unwrap_or(t0) - 0.5 * hop) * 1e3;
     let x_hi = (sg.times_s.last().copied().unwrap_or(t0) + 0.5 * hop) * 1e3;
     let df = sg.freqs_hz.get(1).copied().unwrap_or(1.0);
-    let mut ax = Axes::standard(W, H, (0.0, 1.0), (0.0, 1.0));
-    ax.x = (x_lo, x_hi);
-    ax.y = (-0.5 * df, (rows as f64 - 0.5) * df);
+    let mut c = Chart::new(W, H, &title, "t [ms]", "f [Hz]", (0.0, 1.0), (0.0, 1.0));
+    // The colour map fills the frame exactly: no margins around it.
+    c.x = (x_lo, x_hi);
+    c.y = (-0.5 * df, (rows as f64 - 0.5) * df);
     let peak = sg
         .magnitude
         .iter()
         .flat_map(|r| r[..rows].iter())
         .fold(0.0_f64, |m, v| m.max(*v))
         .max(1e-300);
-    let mut rgba = Vec::with_capacity(cols * rows * 4);
+    let mut rgb = Vec::with_capacity(cols * rows * 3);
     for row in (0..rows).rev() {
         for col in 0..cols {
             let m = sg.magnitude.get(col).map_or(0.0, |r| r[row]);
             let db = 20.0 * (m.max(1e-300) / peak).log10();
             let Rgb(r, g, bl) = colormap(1.0 + db / WATERFALL_DB_RANGE);
-            rgba.extend_from_slice(&[r, g, bl, 255]);
+            rgb.extend_from_slice(&[r, g, bl]);
         }
     }
     if !sg.times_s.is_empty() {
-        c.items.push(Item::Image {
-            x: ax.left,
-            y: ax.top,
-            w: ax.width,
-            h: ax.height,
-            cols: cols as u32,
-            rows: rows as u32,
-            rgba,
-        });
+        c.heatmap = Some(Heatmap { cols, rows, rgb });
     }
-    ax.draw(&mut c, &title, "t [ms]", "f [Hz]");
     // The 1x line (speed in Hz vs time) where it lies in the frame.
     let t = t_ms(series);
     let speed = series.speed_hz();
-    let line: Vec<(f64, f64)> = decimate_minmax(&t, &speed, ax.width as usize)
+    let y_hi = c.y.1;
+    let line: Vec<(f64, f64)> = decimate_minmax(&t, &speed, c.frame_width_px())
         .into_iter()
-        .filter(|(x, f)| *x >= x_lo && *x <= x_hi && *f <= ax.y.1)
+        .filter(|(x, f)| *x >= x_lo && *x <= x_hi && *f <= y_hi)
         .collect();
-    c.polyline(ax.map_all(line), Rgb::WHITE, 1.5, true, Role::Series, "1x");
+    c.line(line, Rgb::WHITE, 1.5, true, Role::Series, "1x");
     if let Some(&(x, f)) = sg
         .times_s
         .last()
         .map(|t| (t * 1e3, series.speed_hz_at(*t)))
         .as_ref()
     {
-        if f <= ax.y.1 && f > ax.y.0 {
-            let (px, py) = ax.map(x, f);
-            c.items.push(Item::Text {
-                x: px - 6.0,
-                y: py + 16.0,
+        if f <= c.y.1 && f > c.y.0 {
+            c.labels.push(super::chart::Label {
+                at: (x, f),
+                offset_px: (-6, 14),
                 text: "1x".into(),
-                size: 13.0,
+                size_px: 13.0,
                 anchor: Anchor::End,
-                vertical: false,
                 color: Rgb::WHITE,
             });
         }
@@ -271,7 +246,7 @@ pub fn waterfall(series: &RunSeries, b: Bearing) -> Canvas {
 }
 
 /// Relative journal orbit dx, dy in um with the lobe contours and the clearance circle.
-pub fn orbit(series: &RunSeries, b: Bearing, lobes: &Bore) -> Canvas {
+pub fn orbit(series: &RunSeries, b: Bearing, lobes: &Bore) -> Chart {
     let (dx, dy) = series.rel(b);
     let stride = dx.len().div_ceil(MAX_ORBIT_POINTS).max(1);
     let pts: Vec<(f64, f64)> = dx
@@ -280,14 +255,14 @@ pub fn orbit(series: &RunSeries, b: Bearing, lobes: &Bore) -> Canvas {
         .step_by(stride)
         .map(|(x, y)| (x * 1e6, y * 1e6))
         .collect();
-    let (mut c, ax) = bearing_frame(
+    let mut c = bearing_frame(
         lobes,
         &pts,
         None,
         &format!("Orbit of journal in ring, bearing {}", b.label()),
     );
-    c.polyline(
-        ax.map_all(pts),
+    c.line(
+        pts,
         Rgb::BLUE,
         0.8,
         false,
@@ -300,13 +275,13 @@ pub fn orbit(series: &RunSeries, b: Bearing, lobes: &Bore) -> Canvas {
 /// A square frame (equal scales) of journal-in-ring displacements dx, dy [um] with the clearance
 /// circle C and the lobe contours (where the gap closes). The frame holds `pts` [um] and either the
 /// whole contours (radius up to C + dH) or, with `half_width_um`, that half width (the contours cut
-/// at the frame). The caller draws its data into the returned axes.
+/// at the frame). The caller adds its data to the returned chart.
 pub fn bearing_frame(
     lobes: &Bore,
     pts: &[(f64, f64)],
     half_width_um: Option<f64>,
     title: &str,
-) -> (Canvas, Axes) {
+) -> Chart {
     let contours: Vec<Vec<(f64, f64)>> = lobes
         .closure_contours_m(60)
         .into_iter()
@@ -330,34 +305,20 @@ pub fn bearing_frame(
                 .collect::<Vec<_>>()
         })
         .collect();
-    let size = 560u32;
-    let mut c = Canvas::new(size, size + 20);
-    let ax = Axes {
-        left: 75.0,
-        top: 35.0,
-        width: size as f64 - 100.0,
-        height: size as f64 - 100.0,
-        x: (-r, r),
-        y: (-r, r),
-    };
-    ax.draw(&mut c, title, "dx [um]", "dy [um]");
+    let mut c = Chart::new(640, 580, title, "dx [um]", "dy [um]", (-r, r), (-r, r));
+    c.x = (-r, r);
+    c.y = (-r, r);
+    c.square = true;
     let circle: Vec<(f64, f64)> = (0..=120)
         .map(|i| {
             let a = std::f64::consts::TAU * i as f64 / 120.0;
             (lobes.c_m * 1e6 * a.cos(), lobes.c_m * 1e6 * a.sin())
         })
         .collect();
-    c.polyline(
-        ax.map_all(circle),
-        Rgb::GREY,
-        1.0,
-        true,
-        Role::Reference,
-        "C",
-    );
+    c.line(circle, Rgb::GREY, 1.0, true, Role::Reference, "C");
     for (k, l) in contours.into_iter().enumerate() {
-        c.polyline(
-            ax.map_all(l),
+        c.line(
+            l,
             Rgb::GREEN,
             2.0,
             false,
@@ -365,5 +326,5 @@ pub fn bearing_frame(
             &format!("lobe {}", k + 1),
         );
     }
-    (c, ax)
+    c
 }

@@ -1,19 +1,186 @@
-//! Plots of a run-up as SVG, each with a PNG twin: the paper's Fig. 6-8 panels.
+//! Figures as SVG, each with a PNG twin: the paper's Fig. 6-8 panels, stability and modal diagrams,
+//! bifurcation maps.
 //!
-//! Hand-written SVG (axes, ticks, labels, polylines; the waterfall colour map is an embedded PNG image) and
-//! the same drawing rasterized with tiny-skia; PNG text uses a built-in 8x8 bitmap font, so no system fonts
-//! are needed. Data polylines carry `class="series"`, lobe contours `class="lobe"`.
+//! Every figure is drawn by plotters: a `Chart` (x-y data, frame and ticks from plotters' chart
+//! builder) or a `Scene` (a free layout, the maps). One drawing goes to two backends: plotters'
+//! bitmap backend for the PNG, and `svg::SvgBackend` for the SVG, which tags the data curves
+//! (`class="series"`, `class="lobe"`, ...). Text is set in the embedded DejaVu Sans (`font`), so PNGs
+//! need no system fonts; `layout` checks that no text overlaps other text or leaves its panel.
 
-pub mod axes;
-pub mod canvas;
+pub mod chart;
 mod figures;
+pub mod font;
+pub mod layout;
+pub mod scene;
+pub mod svg;
 
+pub use chart::{decimate_minmax, Chart};
 pub use figures::bearing_frame;
+pub use scene::Scene;
 
 use std::path::{Path, PathBuf};
 
+use plotters::coord::Shift;
+use plotters::prelude::{BitMapBackend, DrawingArea, DrawingBackend, IntoDrawingArea};
+
 use crate::analysis::{Classification, RunSeries};
 use bearing::Bore;
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Rgb(pub u8, pub u8, pub u8);
+
+impl Rgb {
+    pub const BLACK: Rgb = Rgb(0, 0, 0);
+    pub const WHITE: Rgb = Rgb(255, 255, 255);
+    pub const GREY: Rgb = Rgb(200, 200, 200);
+    pub const BLUE: Rgb = Rgb(31, 119, 180);
+    pub const RED: Rgb = Rgb(214, 39, 40);
+    pub const GREEN: Rgb = Rgb(44, 160, 44);
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Anchor {
+    Start,
+    Middle,
+    End,
+}
+
+/// What a curve is, written as its SVG class: tests and scripts find the data series by it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Role {
+    Series,
+    Lobe,
+    Reference,
+    Marker,
+    /// A map panel's area (invisible).
+    Panel,
+}
+
+impl Role {
+    pub fn class(self) -> &'static str {
+        match self {
+            Role::Series => "series",
+            Role::Lobe => "lobe",
+            Role::Reference => "ref",
+            Role::Marker => "marker",
+            Role::Panel => "panel",
+        }
+    }
+}
+
+/// A figure: its size and how to draw it on any plotters backend.
+pub trait Figure {
+    fn size(&self) -> (u32, u32);
+    fn draw_on<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        tags: &svg::Tags,
+    ) -> Result<(), String>;
+
+    /// The SVG text of the figure.
+    fn to_svg(&self) -> Result<String, String> {
+        font::register();
+        let (w, h) = self.size();
+        let tags = svg::Tags::for_svg();
+        let sink = std::rc::Rc::new(std::cell::RefCell::new(String::new()));
+        {
+            let root = svg::SvgBackend::new(w, h, tags.clone(), sink.clone()).into_drawing_area();
+            self.draw_on(&root, &tags)?;
+            root.present().map_err(|e| e.to_string())?;
+        }
+        let text = sink.take();
+        Ok(text)
+    }
+
+    /// The PNG bytes of the figure (RGB).
+    fn to_png(&self) -> Result<Vec<u8>, String> {
+        font::register();
+        let (w, h) = self.size();
+        let mut buf = vec![255u8; (w as usize) * (h as usize) * 3];
+        {
+            let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
+            self.draw_on(&root, &svg::Tags::default())?;
+            root.present().map_err(|e| e.to_string())?;
+        }
+        encode_png(w, h, &buf)
+    }
+
+    /// Write `<stem>.svg` and `<stem>.png` into `dir`, each whole or not at all.
+    fn save(&self, dir: &Path, stem: &str) -> std::io::Result<Vec<PathBuf>> {
+        let write = |path: &Path, bytes: &[u8]| {
+            crate::output::write_whole(path, bytes).map_err(std::io::Error::other)
+        };
+        let svg = dir.join(format!("{stem}.svg"));
+        write(
+            &svg,
+            self.to_svg().map_err(std::io::Error::other)?.as_bytes(),
+        )?;
+        let png = dir.join(format!("{stem}.png"));
+        write(&png, &self.to_png().map_err(std::io::Error::other)?)?;
+        Ok(vec![svg, png])
+    }
+}
+
+impl Figure for Chart {
+    fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+    fn draw_on<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        tags: &svg::Tags,
+    ) -> Result<(), String> {
+        self.draw(root, tags)
+    }
+}
+
+impl Figure for Scene {
+    fn size(&self) -> (u32, u32) {
+        (self.width, self.height)
+    }
+    fn draw_on<DB: DrawingBackend>(
+        &self,
+        root: &DrawingArea<DB, Shift>,
+        tags: &svg::Tags,
+    ) -> Result<(), String> {
+        self.draw(root, tags)
+    }
+}
+
+/// PNG of an RGB raster.
+pub fn encode_png(w: u32, h: u32, rgb: &[u8]) -> Result<Vec<u8>, String> {
+    let mut out = Vec::new();
+    {
+        let mut enc = png::Encoder::new(&mut out, w, h);
+        enc.set_color(png::ColorType::Rgb);
+        enc.set_depth(png::BitDepth::Eight);
+        let mut writer = enc.write_header().map_err(|e| e.to_string())?;
+        writer.write_image_data(rgb).map_err(|e| e.to_string())?;
+    }
+    Ok(out)
+}
+
+/// Standard base64 (RFC 4648) for data URIs.
+pub fn base64(data: &[u8]) -> String {
+    const A: &[u8; 64] = b"ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+    let mut out = String::with_capacity(data.len().div_ceil(3) * 4);
+    for chunk in data.chunks(3) {
+        let b = [
+            chunk[0],
+            *chunk.get(1).unwrap_or(&0),
+            *chunk.get(2).unwrap_or(&0),
+        ];
+        let v = (b[0] as u32) << 16 | (b[1] as u32) << 8 | b[2] as u32;
+        for k in 0..4 {
+            if k <= chunk.len() {
+                out.push(A[(v >> (18 - 6 * k) & 63) as usize] as char);
+            } else {
+                out.push('=');
+            }
+        }
+    }
+    out
+}
 
 /// Write the run-up figures into `out_dir` (which must exist): `eps`, `y_journal`, `waterfall_C`,
 /// `waterfall_T`, `orbit_C`, `orbit_T`, each as `.svg` and `.png`. Returns the written paths.

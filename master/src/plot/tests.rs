@@ -111,6 +111,10 @@ fn runup_figures_are_written_well_formed_with_their_series() {
         let root = doc.root_element();
         assert_eq!(root.attribute("width"), Some(w.to_string().as_str()));
         assert_eq!(root.attribute("height"), Some(h.to_string().as_str()));
+        let bad = layout::problems(&text);
+        assert!(bad.is_empty(), "{stem}.svg: {bad:#?}");
+        // Title, axis names and tick labels at least: the check saw the text.
+        assert!(layout::text_boxes(&text).unwrap().len() >= 8, "{stem}.svg");
     }
     if keep.is_none() {
         let _ = std::fs::remove_dir_all(&dir);

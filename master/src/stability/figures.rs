@@ -1,12 +1,9 @@
-//! Figures of a stability report, drawn with the run-up plot helpers (`plot::axes`,
-//! `plot::canvas`): Campbell and damping diagrams (one polyline per mode rank: modes sorted by
+//! Figures of a stability report, drawn as `plot::Chart`s: Campbell and damping diagrams (one polyline per mode rank: modes sorted by
 //! frequency at each speed, so a line can jump where two modes cross; whirl directions are in
 //! stability.json), and the static equilibrium vs speed (journal locus in the bore, eccentricity).
 
 use super::StabilityReport;
-use crate::plot::axes::Axes;
-use crate::plot::bearing_frame;
-use crate::plot::canvas::{Anchor, Canvas, Rgb, Role};
+use crate::plot::{bearing_frame, Anchor, Chart, Figure, Rgb, Role};
 use bearing::Bore;
 use std::path::{Path, PathBuf};
 
@@ -60,57 +57,40 @@ fn range(vals: impl Iterator<Item = f64>) -> (f64, f64) {
 }
 
 /// Vertical line and label at the threshold speed (if any).
-fn mark_threshold(c: &mut Canvas, ax: &Axes, r: &StabilityReport) {
+fn mark_threshold(c: &mut Chart, r: &StabilityReport) {
     if let Some(t) = &r.threshold {
-        let (px, _) = ax.map(t.speed_hz, ax.y.0);
-        c.polyline(
-            vec![(px, ax.top), (px, ax.top + ax.height)],
-            Rgb::BLACK,
-            1.0,
-            true,
-            Role::Marker,
-            "threshold",
-        );
         let label = format!(
             "threshold {:.0} Hz: {} whirl at {:.0} Hz",
             t.speed_hz, t.mode.whirl, t.mode.freq_hz
         );
-        c.text(px + 4.0, ax.top + 14.0, &label, 12.0, Anchor::Start);
+        c.marker(t.speed_hz, "threshold", Some(label));
     }
 }
 
 /// One line per mode rank of `value` vs speed (broken where a speed lacks the rank), the
 /// threshold marker and the legend.
 fn mode_lines(
-    c: &mut Canvas,
-    ax: &Axes,
+    c: &mut Chart,
     r: &StabilityReport,
     value: impl Fn(&super::campbell::ModeResult) -> f64,
 ) {
     let names: Vec<String> = (0..n_modes(r)).map(|k| format!("mode {}", k + 1)).collect();
     for (k, name) in names.iter().enumerate() {
         for seg in rank_segments(r, k, &value) {
-            c.polyline(
-                ax.map_all(seg),
-                PALETTE[k % 8],
-                1.6,
-                false,
-                Role::Series,
-                name,
-            );
+            c.line(seg, PALETTE[k % 8], 1.6, false, Role::Series, name);
         }
     }
-    mark_threshold(c, ax, r);
+    mark_threshold(c, r);
     let legend: Vec<(&str, Rgb)> = names
         .iter()
         .enumerate()
         .map(|(k, n)| (n.as_str(), PALETTE[k % 8]))
         .collect();
-    ax.legend(c, &legend);
+    c.legend(&legend);
 }
 
 /// Natural frequencies of the damped modes vs speed, with the 1x (synchronous) line.
-pub fn campbell(r: &StabilityReport) -> Canvas {
+pub fn campbell(r: &StabilityReport) -> Chart {
     let speeds: Vec<f64> = r.speeds.iter().map(|s| s.speed_hz).collect();
     let xr = range(speeds.iter().copied());
     let fr = range(
@@ -118,28 +98,29 @@ pub fn campbell(r: &StabilityReport) -> Canvas {
             .iter()
             .flat_map(|s| s.modes.iter().map(|m| m.freq_hz)),
     );
-    let mut c = Canvas::new(W, H);
-    let ax = Axes::standard(W, H, xr, (0.0, fr.1.max(xr.1)));
-    ax.draw(
-        &mut c,
+    let mut c = Chart::new(
+        W,
+        H,
         "Campbell diagram (damped whirl frequencies)",
         "rotor speed [Hz]",
         "whirl frequency [Hz]",
+        xr,
+        (0.0, fr.1.max(xr.1)),
     );
-    c.polyline(
-        ax.map_all([(xr.0, xr.0), (xr.1, xr.1)]),
+    c.line(
+        [(xr.0, xr.0), (xr.1, xr.1)],
         Rgb::BLACK,
         1.0,
         true,
         Role::Reference,
         "1x",
     );
-    mode_lines(&mut c, &ax, r, |m| m.freq_hz);
+    mode_lines(&mut c, r, |m| m.freq_hz);
     c
 }
 
 /// Damping ratio [%] of each mode vs speed; < 0 is unstable.
-pub fn damping(r: &StabilityReport) -> Canvas {
+pub fn damping(r: &StabilityReport) -> Chart {
     let xr = range(r.speeds.iter().map(|s| s.speed_hz));
     let zr = range(
         r.speeds
@@ -148,23 +129,24 @@ pub fn damping(r: &StabilityReport) -> Canvas {
     );
     // The interesting part is near zero: clip very well damped modes at 30 %.
     let zr = (zr.0.min(-1.0), zr.1.clamp(1.0, 30.0));
-    let mut c = Canvas::new(W, H);
-    let ax = Axes::standard(W, H, xr, zr);
-    ax.draw(
-        &mut c,
+    let mut c = Chart::new(
+        W,
+        H,
         "Damping ratio of the whole-system modes",
         "rotor speed [Hz]",
         "damping ratio [%]",
+        xr,
+        zr,
     );
-    c.polyline(
-        ax.map_all([(xr.0, 0.0), (xr.1, 0.0)]),
+    c.line(
+        [(xr.0, 0.0), (xr.1, 0.0)],
         Rgb::BLACK,
         1.0,
         false,
         Role::Reference,
         "zero",
     );
-    mode_lines(&mut c, &ax, r, |m| (100.0 * m.damping_ratio).min(zr.1));
+    mode_lines(&mut c, r, |m| (100.0 * m.damping_ratio).min(zr.1));
     c
 }
 
@@ -172,7 +154,7 @@ const BEARINGS: [(&str, Rgb); 2] = [("bearing C", PALETTE[0]), ("bearing T", PAL
 
 /// Journal centre relative to its ring [um] at the static equilibrium, over the speed range, in
 /// the bore (clearance circle, lobe contours); the lowest and highest speeds are labelled.
-pub fn locus(r: &StabilityReport, lobes: &Bore) -> Canvas {
+pub fn locus(r: &StabilityReport, lobes: &Bore) -> Chart {
     let loci: Vec<Vec<(f64, f64)>> = (0..2)
         .map(|b| {
             r.speeds
@@ -183,61 +165,53 @@ pub fn locus(r: &StabilityReport, lobes: &Bore) -> Canvas {
         .collect();
     let all: Vec<(f64, f64)> = loci.iter().flatten().copied().collect();
     // Framed to the clearance circle (the lobes open far beyond it, to C + dH).
-    let (mut c, ax) = bearing_frame(
+    let mut c = bearing_frame(
         lobes,
         &all,
         Some(1.15 * lobes.c_m * 1e6),
         "Journal locus, static equilibrium",
     );
     for (b, ((name, color), pts)) in BEARINGS.iter().zip(&loci).enumerate() {
-        c.polyline(
-            ax.map_all(pts.clone()),
-            *color,
-            1.8,
-            false,
-            Role::Series,
-            name,
-        );
+        c.line(pts.clone(), *color, 1.8, false, Role::Series, name);
         // Speeds at the ends: bearing C's to the right, T's to the left, so they do not overlap.
         let ends = [r.speeds.first(), r.speeds.last()];
         for (s, p) in ends.into_iter().zip([pts.first(), pts.last()]) {
             if let (Some(s), Some(&(x, y))) = (s, p) {
-                let (px, py) = ax.map(x, y);
                 let label = format!("{:.0} Hz", s.speed_hz);
                 match b {
-                    0 => c.text(px + 6.0, py + 4.0, &label, 11.0, Anchor::Start),
-                    _ => c.text(px - 6.0, py + 4.0, &label, 11.0, Anchor::End),
+                    0 => c.label((x, y), (6, 0), &label, Anchor::Start),
+                    _ => c.label((x, y), (-6, 0), &label, Anchor::End),
                 }
             }
         }
     }
-    let legend: Vec<(&str, Rgb)> = BEARINGS.to_vec();
-    ax.legend(&mut c, &legend);
+    c.legend(&BEARINGS);
     c
 }
 
 /// Eccentricity |d| / C of each bearing's static equilibrium vs speed.
-pub fn eccentricity(r: &StabilityReport) -> Canvas {
+pub fn eccentricity(r: &StabilityReport) -> Chart {
     let xr = range(r.speeds.iter().map(|s| s.speed_hz));
     let er = range(
         r.speeds
             .iter()
             .flat_map(|s| s.bearings.iter().map(|b| b.eps)),
     );
-    let mut c = Canvas::new(W, H);
-    let ax = Axes::standard(W, H, xr, (0.0, er.1.max(0.1)));
-    ax.draw(
-        &mut c,
+    let mut c = Chart::new(
+        W,
+        H,
         "Static equilibrium under gravity: eccentricity",
         "rotor speed [Hz]",
         "eccentricity |d| / C [1]",
+        xr,
+        (0.0, er.1.max(0.1)),
     );
     for (b, (name, color)) in BEARINGS.iter().enumerate() {
         let pts = r.speeds.iter().map(|s| (s.speed_hz, s.bearings[b].eps));
-        c.polyline(ax.map_all(pts), *color, 1.8, false, Role::Series, name);
+        c.line(pts, *color, 1.8, false, Role::Series, name);
     }
-    mark_threshold(&mut c, &ax, r);
-    ax.legend(&mut c, &BEARINGS);
+    mark_threshold(&mut c, r);
+    c.legend(&BEARINGS);
     c
 }
 
@@ -281,31 +255,24 @@ pub fn save_unbalance(
         ),
     ];
     let yr = range(series.iter().flat_map(|s| s.2.iter().copied()));
-    let mut c = Canvas::new(W, H);
-    let ax = Axes::standard(W, H, xr, (0.0, yr.1.max(1e-9) * 1.05));
-    ax.draw(
-        &mut c,
+    let mut c = Chart::new(
+        W,
+        H,
         "Unbalance response: orbit semi-major axis",
         "rotor speed [Hz]",
         "amplitude [um]",
+        xr,
+        (0.0, yr.1.max(1e-9) * 1.05),
     );
     for (name, color, a) in &series {
         let pts = f.iter().copied().zip(a.iter().copied());
-        c.polyline(ax.map_all(pts), *color, 1.8, false, Role::Series, name);
+        c.line(pts, *color, 1.8, false, Role::Series, name);
     }
     for cs in &u.critical_speeds {
-        let (px, _) = ax.map(cs.speed_hz, ax.y.0);
-        c.polyline(
-            vec![(px, ax.top), (px, ax.top + ax.height)],
-            Rgb::BLACK,
-            1.0,
-            true,
-            Role::Marker,
-            "critical speed",
-        );
+        c.marker(cs.speed_hz, "critical speed", None);
     }
     let legend: Vec<(&str, Rgb)> = series.iter().map(|s| (s.0, s.1)).collect();
-    ax.legend(&mut c, &legend);
+    c.legend(&legend);
     let mut out = c.save(dir, "unbalance_amplitude")?;
 
     let phases: [(&str, Rgb, Vec<f64>); 2] = [
@@ -320,20 +287,21 @@ pub fn save_unbalance(
             u.points.iter().map(|p| p.journal_t.x_phase_deg).collect(),
         ),
     ];
-    let mut c = Canvas::new(W, H);
-    let ax = Axes::standard(W, H, xr, (-180.0, 180.0));
-    ax.draw(
-        &mut c,
+    let mut c = Chart::new(
+        W,
+        H,
         "Unbalance response: phase of the journals' x motion",
         "rotor speed [Hz]",
         "phase [deg]",
+        xr,
+        (-180.0, 180.0),
     );
     for (name, color, a) in &phases {
         let pts = f.iter().copied().zip(a.iter().copied());
-        c.polyline(ax.map_all(pts), *color, 1.8, false, Role::Series, name);
+        c.line(pts, *color, 1.8, false, Role::Series, name);
     }
     let legend: Vec<(&str, Rgb)> = phases.iter().map(|s| (s.0, s.1)).collect();
-    ax.legend(&mut c, &legend);
+    c.legend(&legend);
     out.extend(c.save(dir, "unbalance_phase")?);
     Ok(out)
 }

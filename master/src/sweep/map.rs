@@ -1,8 +1,10 @@
-//! Bifurcation maps as the paper's Fig. 17, drawn on the plot canvas (SVG + PNG).
+//! Bifurcation maps as the paper's Fig. 17, laid out as a `plot::Scene` (SVG + PNG), text measured
+//! with the embedded font.
 
 use super::study::{keys_in, short_and_unit, Params, NUMERICS};
 use super::{RunRecord, Study};
-use crate::plot::canvas::{Anchor, Canvas, Item, Rgb};
+use crate::plot::font::text_width_px;
+use crate::plot::{Anchor, Figure, Rgb, Scene};
 use std::path::{Path, PathBuf};
 
 /// Run-up classes, their names in the legend and their (shorter) labels in a map cell.
@@ -63,11 +65,17 @@ pub const LEGEND: &[(&str, Rgb)] = &[
     ("unstable low", Rgb(214, 96, 77)),
     ("lin. unst.", Rgb(203, 180, 227)),
     ("failed", Rgb(190, 190, 190)),
+    ("too short", Rgb(240, 240, 240)),
 ];
 
-/// Width of a legend entry [px]: swatch, its name at 12 px (~0.85 em per character), a gap.
+/// Text sizes [px] of the maps.
+const TITLE_PX: f64 = 15.0;
+const LABEL_PX: f64 = 13.0;
+const CELL_PX: f64 = 12.0;
+
+/// Width of a legend entry [px]: swatch, its name, a gap.
 fn legend_entry_w(name: &str) -> f64 {
-    24.0 + 0.85 * 12.0 * name.chars().count() as f64 + 22.0
+    24.0 + text_width_px(name, CELL_PX) + 22.0
 }
 
 /// "C = 15 um" for a flag and its value.
@@ -225,124 +233,53 @@ fn plot_maps_across(
         .collect();
     let max_nc = grids.iter().map(|g| g.0.len()).max().unwrap_or(1).max(1);
     let max_nd = grids.iter().map(|g| g.1.len()).max().unwrap_or(1).max(1);
-    let (cell_w, cell_h) = (92.0, 46.0);
-    let (ml, mt, mr, mb) = (78.0, 42.0, 18.0, 52.0);
-    let pw = (ml + cell_w * max_nc as f64 + mr).max(300.0);
-    let ph = mt + cell_h * max_nd as f64 + mb;
+    // The widest d tick label sets the left margin, so the turned axis name never meets it.
+    let d_tick_w = grids
+        .iter()
+        .flat_map(|g| g.1.iter())
+        .map(|d| text_width_px(&fmt_num(*d), CELL_PX))
+        .fold(0.0, f64::max);
+    let titles: Vec<String> = panels
+        .iter()
+        .map(|(key, _)| {
+            let t: Vec<String> = key
+                .iter()
+                .filter(|(k, _)| {
+                    if varying.is_empty() {
+                        k == "clearance" || k == "dh"
+                    } else {
+                        varying.contains(k)
+                    }
+                })
+                .map(|(k, v)| labelled(k, v))
+                .collect();
+            if t.is_empty() {
+                "all runs".to_string()
+            } else {
+                t.join(", ")
+            }
+        })
+        .collect();
+    let cell_w = grids
+        .iter()
+        .flat_map(|g| g.0.iter())
+        .map(|c| text_width_px(&fmt_num(*c), CELL_PX) + 12.0)
+        .fold(92.0, f64::max);
+    let cell_h = 46.0;
+    let (ml, mt, mr, mb) = (d_tick_w + 40.0, 42.0, 18.0, 52.0);
+    let widest_title = titles
+        .iter()
+        .map(|t| text_width_px(t, TITLE_PX))
+        .fold(0.0, f64::max);
+    let pw = (ml + cell_w * max_nc as f64 + mr)
+        .max(300.0)
+        .max(widest_title + 16.0)
+        .max(text_width_px(&x_label, LABEL_PX) + ml + 16.0);
+    let ph = (mt + cell_h * max_nd as f64 + mb).max(mt + text_width_px("d [N s/m]", LABEL_PX) + mb);
     let ncols = panels.len().clamp(1, 3);
     let nrows = panels.len().div_ceil(ncols).max(1);
-    let legend_h = 60.0;
+    let legend_h = 64.0;
     let legend_w: f64 = 20.0 + LEGEND.iter().map(|(n, _)| legend_entry_w(n)).sum::<f64>();
-    let width = (pw * ncols as f64).max(legend_w).ceil() as u32;
-    let height = (ph * nrows as f64 + legend_h).ceil() as u32;
-    let mut c = Canvas::new(width, height);
-    for (pi, ((key, rs), (cs, ds))) in panels.iter().zip(&grids).enumerate() {
-        let ox = pw * (pi % ncols) as f64;
-        let oy = ph * (pi / ncols) as f64;
-        let title: Vec<String> = key
-            .iter()
-            .filter(|(k, _)| {
-                if varying.is_empty() {
-                    k == "clearance" || k == "dh"
-                } else {
-                    varying.contains(k)
-                }
-            })
-            .map(|(k, v)| labelled(k, v))
-            .collect();
-        let title = if title.is_empty() {
-            "all runs".to_string()
-        } else {
-            title.join(", ")
-        };
-        let (gx, gy) = (ox + ml, oy + mt);
-        let (gw, gh) = (cell_w * cs.len() as f64, cell_h * ds.len() as f64);
-        // Centred over the grid, but kept inside the panel when the grid is narrower than the
-        // title (the canvas font is ~0.85 em wide per character).
-        let half_title = 0.5 * 0.85 * 14.0 * title.chars().count() as f64;
-        let tx = (gx + 0.5 * gw).max(ox + half_title + 4.0);
-        c.text(tx, oy + 22.0, &title, 14.0, Anchor::Middle);
-        for r in rs {
-            let (Some(cv), Some(dv)) = (r.param(across), r.param("d")) else {
-                continue;
-            };
-            let (Some(ic), Some(id)) = (
-                cs.iter().position(|x| *x == cv),
-                ds.iter().position(|x| *x == dv),
-            ) else {
-                continue;
-            };
-            let x = gx + cell_w * ic as f64;
-            let y = gy + gh - cell_h * (id + 1) as f64;
-            let (fill, label) = cell_style(r);
-            c.items.push(Item::Rect {
-                x,
-                y,
-                w: cell_w,
-                h: cell_h,
-                fill: Some(fill),
-                stroke: Some(Rgb::WHITE),
-            });
-            // "path 1 (f)": the marker goes on the second line (such runs show no onset speed),
-            // so the label fits a narrow cell.
-            let (class, marker) = label.split_once(" (").unwrap_or((&label, ""));
-            c.text(x + 0.5 * cell_w, y + 19.0, class, 12.0, Anchor::Middle);
-            if !marker.is_empty() {
-                let marker = format!("({marker}");
-                c.text(x + 0.5 * cell_w, y + 36.0, &marker, 12.0, Anchor::Middle);
-            }
-            if let Some(f) = r.onset_speed_hz.filter(|_| r.status == "completed") {
-                c.text(
-                    x + 0.5 * cell_w,
-                    y + 36.0,
-                    &format!("{f:.0} Hz"),
-                    12.0,
-                    Anchor::Middle,
-                );
-            }
-        }
-        c.items.push(Item::Rect {
-            x: gx,
-            y: gy,
-            w: gw,
-            h: gh,
-            fill: None,
-            stroke: Some(Rgb::BLACK),
-        });
-        for (i, cv) in cs.iter().enumerate() {
-            let x = gx + cell_w * (i as f64 + 0.5);
-            c.text(x, gy + gh + 16.0, &fmt_num(*cv), 12.0, Anchor::Middle);
-        }
-        for (j, dv) in ds.iter().enumerate() {
-            let y = gy + gh - cell_h * (j as f64 + 0.5) + 4.0;
-            c.text(gx - 6.0, y, &fmt_num(*dv), 12.0, Anchor::End);
-        }
-        c.text(
-            gx + 0.5 * gw,
-            gy + gh + 36.0,
-            &x_label,
-            13.0,
-            Anchor::Middle,
-        );
-        c.vtext(gx - 56.0, gy + 0.5 * gh, "d [N s/m]", 13.0);
-    }
-    let ly = ph * nrows as f64 + 10.0;
-    // Each entry as wide as its name (~0.85 em per character, as for the titles) plus a gap, so
-    // a long name cannot run into the next swatch.
-    let mut x = 10.0;
-    for (name, col) in LEGEND.iter() {
-        let entry_w = legend_entry_w(name);
-        c.items.push(Item::Rect {
-            x,
-            y: ly,
-            w: 18.0,
-            h: 18.0,
-            fill: Some(*col),
-            stroke: Some(Rgb::GREY),
-        });
-        c.text(x + 24.0, ly + 14.0, name, 12.0, Anchor::Start);
-        x += entry_w;
-    }
     // The flags every run shares, as a footnote.
     let common: Vec<String> = keys_in(records.iter().map(|r| &r.args))
         .into_iter()
@@ -363,8 +300,87 @@ fn plot_maps_across(
         }
         footnote.push_str("* borderline: a deciding criterion within 10 % of its bound");
     }
+    let footnote_w = text_width_px(&footnote, CELL_PX) + 20.0;
+    let width = (pw * ncols as f64).max(legend_w).max(footnote_w).ceil() as u32;
+    let height = (ph * nrows as f64 + legend_h).ceil() as u32;
+    let mut c = Scene::new(width, height);
+    for (pi, ((_, rs), (cs, ds))) in panels.iter().zip(&grids).enumerate() {
+        let ox = pw * (pi % ncols) as f64;
+        let oy = ph * (pi / ncols) as f64;
+        c.panel((ox, oy, pw, ph));
+        let title = &titles[pi];
+        let (gx, gy) = (ox + ml, oy + mt);
+        let (gw, gh) = (cell_w * cs.len() as f64, cell_h * ds.len() as f64);
+        // Centred over the grid, but kept inside the panel when the grid is narrower than the title.
+        let half_title = 0.5 * text_width_px(title, TITLE_PX);
+        let tx = (gx + 0.5 * gw)
+            .max(ox + half_title + 6.0)
+            .min(ox + pw - half_title - 6.0);
+        c.text(tx, oy + 20.0, title, TITLE_PX, Anchor::Middle);
+        for r in rs {
+            let (Some(cv), Some(dv)) = (r.param(across), r.param("d")) else {
+                continue;
+            };
+            let (Some(ic), Some(id)) = (
+                cs.iter().position(|x| *x == cv),
+                ds.iter().position(|x| *x == dv),
+            ) else {
+                continue;
+            };
+            let x = gx + cell_w * ic as f64;
+            let y = gy + gh - cell_h * (id + 1) as f64;
+            let (fill, label) = cell_style(r);
+            c.rect((x, y, cell_w, cell_h), Some(fill), Some(Rgb::WHITE));
+            // "path 1 (f)": the marker goes on the second line (such runs show no onset speed),
+            // so the label fits a narrow cell.
+            let (class, marker) = label.split_once(" (").unwrap_or((&label, ""));
+            c.text(x + 0.5 * cell_w, y + 15.0, class, CELL_PX, Anchor::Middle);
+            if !marker.is_empty() {
+                let marker = format!("({marker}");
+                c.text(x + 0.5 * cell_w, y + 32.0, &marker, CELL_PX, Anchor::Middle);
+            }
+            if let Some(f) = r.onset_speed_hz.filter(|_| r.status == "completed") {
+                c.text(
+                    x + 0.5 * cell_w,
+                    y + 32.0,
+                    &format!("{f:.0} Hz"),
+                    CELL_PX,
+                    Anchor::Middle,
+                );
+            }
+        }
+        c.rect((gx, gy, gw, gh), None, Some(Rgb::BLACK));
+        for (i, cv) in cs.iter().enumerate() {
+            let x = gx + cell_w * (i as f64 + 0.5);
+            c.text(x, gy + gh + 13.0, &fmt_num(*cv), CELL_PX, Anchor::Middle);
+        }
+        for (j, dv) in ds.iter().enumerate() {
+            let y = gy + gh - cell_h * (j as f64 + 0.5);
+            c.text(gx - 6.0, y, &fmt_num(*dv), CELL_PX, Anchor::End);
+        }
+        c.text(
+            gx + 0.5 * gw,
+            gy + gh + 33.0,
+            &x_label,
+            LABEL_PX,
+            Anchor::Middle,
+        );
+        c.vtext(
+            gx - 6.0 - d_tick_w - 16.0,
+            gy + 0.5 * gh,
+            "d [N s/m]",
+            LABEL_PX,
+        );
+    }
+    let ly = ph * nrows as f64 + 10.0;
+    let mut x = 10.0;
+    for (name, col) in LEGEND.iter() {
+        c.rect((x, ly, 18.0, 18.0), Some(*col), Some(Rgb::GREY));
+        c.text(x + 24.0, ly + 9.0, name, CELL_PX, Anchor::Start);
+        x += legend_entry_w(name);
+    }
     if !footnote.is_empty() {
-        c.text(10.0, ly + 42.0, &footnote, 12.0, Anchor::Start);
+        c.text(10.0, ly + 38.0, &footnote, CELL_PX, Anchor::Start);
     }
     c.save(dir, stem)
 }
