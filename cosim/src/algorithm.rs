@@ -21,6 +21,7 @@
 
 use crate::error::{RestoreError, StepError};
 use crate::parallel::StepPool;
+use crate::parallel_choice::{Stepping, SteppingChoice, SteppingStats};
 use crate::polynomial::{taylor_derivatives, taylor_value};
 use crate::step_control::{
     ControlStats, StepControl, MAX_HALVINGS, RELAX_BELOW, SAVE_BURST_STEPS, SAVE_EVERY,
@@ -48,7 +49,8 @@ pub struct AlgorithmConfig {
     pub interpolation_order: usize,
     /// Save FMU states and roll back on fmi2Discard (required by `control`).
     pub rollback: bool,
-    /// Step the members of a group (subsystems that do not feed each other) in parallel threads.
+    /// Allow stepping the members of a group (subsystems that do not feed each other) in parallel
+    /// threads; whether a group step does is measured as the run goes (`parallel_choice`).
     pub parallel: bool,
     /// Macro-step control by the coupling error; None: fixed macro step (Discard still halves).
     pub control: Option<StepControl>,
@@ -86,6 +88,8 @@ pub struct CoSim {
     predicted: Vec<(usize, usize, f64)>,
     /// Worker threads of the parallel groups. Dropped (joined) before the subsystems: see Drop.
     pool: Option<StepPool>,
+    /// Parallel or one after the other, by measurement (only with a pool).
+    stepping: SteppingChoice,
     /// Scratch: which subsystems have stepped in the current macro step.
     stepped: Vec<bool>,
     /// Macro steps between saved FMU states when rollback is on.
@@ -185,6 +189,7 @@ impl CoSim {
             control_stats: ControlStats::default(),
             predicted: vec![],
             pool,
+            stepping: SteppingChoice::new(),
             stepped: vec![],
             save_every: SAVE_EVERY,
             save_burst: 0,
@@ -331,9 +336,13 @@ impl CoSim {
                     .map_err(|e| fail(&self.subs[i], e, t))?;
             }
             self.timing.coupling += coupling.elapsed();
-            match &self.pool {
-                Some(pool) if group.len() > 1 => {
-                    let wall = Instant::now();
+            let choice = match &self.pool {
+                Some(_) if group.len() > 1 => Some(self.stepping.next()),
+                _ => None,
+            };
+            let wall = Instant::now();
+            match (&self.pool, choice) {
+                (Some(pool), Some(Stepping::Parallel)) => {
                     let mut members: Vec<&mut Subsystem> = self
                         .subs
                         .iter_mut()
@@ -343,6 +352,7 @@ impl CoSim {
                         .collect();
                     let before: Vec<Duration> = members.iter().map(|m| m.step_wall).collect();
                     let results = pool.step(&mut members, t, h);
+                    self.stepping.record(wall.elapsed());
                     // Time the group took beyond its slowest member: hand-over to and from the workers.
                     let slowest = members
                         .iter()
@@ -357,11 +367,21 @@ impl CoSim {
                     }
                 }
                 _ => {
+                    let mut failed = None;
                     for &i in group {
                         let before = self.subs[i].step_wall;
                         let r = self.subs[i].do_step(t, h);
                         self.timing.critical_path += self.subs[i].step_wall - before;
-                        r.map_err(|e| fail(&self.subs[i], e, t))?;
+                        if let Err(e) = r {
+                            failed = Some(fail(&self.subs[i], e, t));
+                            break;
+                        }
+                    }
+                    if choice.is_some() {
+                        self.stepping.record(wall.elapsed());
+                    }
+                    if let Some(e) = failed {
+                        return Err(e);
                     }
                 }
             }
@@ -723,6 +743,11 @@ impl CoSim {
     }
 
     /// Where the master's own time went.
+    /// How parallel groups were stepped (None: no parallel group, or parallel off).
+    pub fn stepping_stats(&self) -> Option<SteppingStats> {
+        self.pool.as_ref().map(|_| self.stepping.stats())
+    }
+
     pub fn timing(&self) -> &Timing {
         &self.timing
     }

@@ -265,6 +265,7 @@ impl<'a> Execution<'a> {
         report.macro_steps = self.step_index;
         report.retries = cosim.macro_steps().1;
         report.control = cosim.control_stats();
+        report.group_stepping = cosim.stepping_stats();
         report.counters = cosim.counters();
         report.wall_time_s = self.wall_before_s + start.elapsed().as_secs_f64();
         report.wall_per_subsystem_s = cosim

@@ -23,6 +23,7 @@ pub mod execution;
 pub mod files;
 pub mod observer;
 pub mod parallel;
+pub mod parallel_choice;
 pub mod polynomial;
 pub mod report;
 pub mod setup;

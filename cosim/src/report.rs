@@ -17,6 +17,9 @@ pub struct RunReport {
     pub master_overhead_s: f64,
     /// Parts of the master's own time: state saving, coupling (polynomials, get/set), thread hand-over.
     pub master_parts_s: Vec<(String, f64)>,
+    /// How the parallel groups were stepped: threads or one after the other, chosen by measurement
+    /// (None: no parallel group, or parallel off).
+    pub group_stepping: Option<crate::parallel_choice::SteppingStats>,
     /// What the macro-step control did (None: fixed macro step).
     pub control: Option<ControlStats>,
     /// Integer outputs of each FMU at the end (solver counters such as the air film's

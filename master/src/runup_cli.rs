@@ -48,7 +48,8 @@ pub struct RunupArgs {
     /// Jacobi instead of Gauss-Seidel.
     #[arg(long)]
     pub jacobi: bool,
-    /// Step the two air films one after the other (one core) instead of in two threads.
+    /// Step the two air films one after the other (one core) throughout. By default the run times
+    /// both ways as it goes and keeps the faster (summary.json `group_stepping`).
     #[arg(long)]
     pub serial_films: bool,
     /// Macro-step control: "RTOL,ATOL_N" of the extrapolated bearing forces (a step whose

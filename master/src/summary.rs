@@ -57,6 +57,10 @@ pub struct RunSummary {
     pub master_overhead_s: Option<f64>,
     pub master_overhead_parts_s: BTreeMap<String, f64>,
     pub master_overhead_percent: Option<f64>,
+    /// Whether the films stepped in two threads or one after the other (chosen by measurement as the
+    /// run went; None: serial by request, or a folder of an earlier version).
+    #[serde(default)]
+    pub group_stepping: Option<cosim::parallel_choice::SteppingStats>,
     /// Integer outputs (solver counters) of each FMU instance at the end.
     pub fmu_counters: BTreeMap<String, BTreeMap<String, i32>>,
     /// The run-up settings (or the system file of `airring run`), as the command got them.
@@ -104,6 +108,7 @@ impl RunSummary {
             macro_steps: Some(report.macro_steps),
             retried_macro_steps: Some(report.retries),
             macro_step_control: report.control,
+            group_stepping: report.group_stepping,
             wall_time_s: Some(report.wall_time_s),
             wall_in_fmus_s: report.wall_per_subsystem_s.iter().cloned().collect(),
             master_overhead_s: Some(report.master_overhead_s),

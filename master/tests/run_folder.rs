@@ -141,6 +141,14 @@ fn a_run_shorter_than_the_persistence_window_is_too_short_to_classify() {
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["classification"], "too_short", "{summary}");
     assert!(summary["onset_time_s"].is_null());
+    // The films' group: stepped in threads or one after the other as measured, every group step
+    // counted, both ways probed within the first 80 steps and a choice reported.
+    let gs = &summary["group_stepping"];
+    let counted = gs["parallel_steps"].as_u64().unwrap() + gs["serial_steps"].as_u64().unwrap();
+    assert!(counted >= summary["macro_steps"].as_u64().unwrap(), "{gs}");
+    assert!(gs["serial_steps"].as_u64().unwrap() >= 40, "{gs}");
+    assert!(["parallel", "serial"].contains(&gs["choice"].as_str().unwrap()), "{gs}");
+    assert!(gs["last_probe_serial_us"].as_f64().unwrap() > 0.0, "{gs}");
     assert!(summary["criteria"]
         .as_str()
         .unwrap()

@@ -1,0 +1,307 @@
+//! When to step a group's members on the pool's threads and when one after the other: a small
+//! policy object that measures instead of assuming.
+//!
+//! Two threads pay on a quiet machine (the two air films take about as long each), and lose badly on
+//! a busy one: a worker that waits for its next job competes with the other process for a core, and
+//! a descheduled worker stalls the master's macro step (17x slower seen on a 2-core machine). So the
+//! run alternates short probe windows of both ways, keeps the faster one (parallel only when it is
+//! clearly faster), holds it for a while, and probes again: the choice follows the machine's load
+//! through a run. Results do not depend on the choice (the members are stepped with the same inputs
+//! either way); only the wall time does.
+
+use std::time::Duration;
+
+/// How the members of a group are stepped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stepping {
+    Parallel,
+    Serial,
+}
+
+/// Group steps per probe window, the first few of which are not timed (a parked worker's wake-up).
+const PROBE_STEPS: u32 = 40;
+const PROBE_WARMUP: u32 = 8;
+/// Group steps a choice is held before the next probe, at first and at most (doubled each time a
+/// probe confirms the choice).
+const HOLD_MIN: u64 = 2_000;
+const HOLD_MAX: u64 = 16_000;
+/// While parallel is held: this many consecutive group steps slower than serial was in the last
+/// probe end the hold at once (another process arrived: a stalled worker costs 10x per step).
+const STALLS_TO_REPROBE: u32 = 8;
+/// Parallel must beat serial by this factor: on a tie, one thread leaves a core to others.
+const PARALLEL_MARGIN: f64 = 0.95;
+/// A parallel probe ends early, after this many steps, once it has cost twice what serial steps
+/// would have: on a busy machine a parallel step can take 10x a serial one, and a whole window of
+/// them would cost more than the choice saves.
+const PROBE_ABORT_AFTER: u32 = 4;
+
+#[derive(Clone, Copy, Debug)]
+enum Phase {
+    /// Timing `mode` for `PROBE_STEPS`; `then` is the other mode still to probe (None: decide).
+    Probe {
+        mode: Stepping,
+        done: u32,
+        timed: Duration,
+        /// All steps of the window, warm-up included (for the early end of a losing parallel probe).
+        spent: Duration,
+        then: Option<Stepping>,
+    },
+    Hold {
+        mode: Stepping,
+        left: u64,
+        /// Consecutive parallel steps slower than the last serial probe.
+        stalls: u32,
+    },
+}
+
+/// What the choice did over a run (summary.json `group_stepping`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct SteppingStats {
+    pub parallel_steps: u64,
+    pub serial_steps: u64,
+    /// Times the held choice changed after a probe.
+    pub switches: u64,
+    /// The choice held at the end (None: never decided, the run was shorter than two probes).
+    pub choice: Option<Stepping>,
+    /// The last probe's mean wall time per group step [us], each way.
+    pub last_probe_parallel_us: Option<f64>,
+    pub last_probe_serial_us: Option<f64>,
+}
+
+#[derive(Clone, Debug)]
+pub struct SteppingChoice {
+    phase: Phase,
+    hold: u64,
+    means: [Option<f64>; 2],
+    stats: SteppingStats,
+}
+
+impl Default for SteppingChoice {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+fn index(m: Stepping) -> usize {
+    match m {
+        Stepping::Parallel => 0,
+        Stepping::Serial => 1,
+    }
+}
+
+fn other(m: Stepping) -> Stepping {
+    match m {
+        Stepping::Parallel => Stepping::Serial,
+        Stepping::Serial => Stepping::Parallel,
+    }
+}
+
+impl SteppingChoice {
+    pub fn new() -> Self {
+        SteppingChoice {
+            // Serial first: its mean bounds what the parallel probe may cost.
+            phase: Phase::Probe {
+                mode: Stepping::Serial,
+                done: 0,
+                timed: Duration::ZERO,
+                spent: Duration::ZERO,
+                then: Some(Stepping::Parallel),
+            },
+            hold: HOLD_MIN,
+            means: [None; 2],
+            stats: SteppingStats::default(),
+        }
+    }
+
+    /// How to step the next group.
+    pub fn next(&self) -> Stepping {
+        match self.phase {
+            Phase::Probe { mode, .. } | Phase::Hold { mode, .. } => mode,
+        }
+    }
+
+    pub fn stats(&self) -> SteppingStats {
+        self.stats
+    }
+
+    /// The group stepped the way `next` said and took `wall`.
+    pub fn record(&mut self, wall: Duration) {
+        let mode = self.next();
+        match mode {
+            Stepping::Parallel => self.stats.parallel_steps += 1,
+            Stepping::Serial => self.stats.serial_steps += 1,
+        }
+        self.phase = match self.phase {
+            Phase::Probe {
+                mode,
+                done,
+                timed,
+                spent,
+                then,
+            } => {
+                let timed = if done >= PROBE_WARMUP {
+                    timed + wall
+                } else {
+                    timed
+                };
+                let spent = spent + wall;
+                let done = done + 1;
+                let losing = mode == Stepping::Parallel
+                    && done >= PROBE_ABORT_AFTER
+                    && self.means[index(Stepping::Serial)]
+                        .is_some_and(|s| spent.as_secs_f64() * 1e6 > 2.0 * s * f64::from(done));
+                if losing {
+                    self.means[index(mode)] = Some(spent.as_secs_f64() * 1e6 / f64::from(done));
+                    self.decide()
+                } else if done < PROBE_STEPS {
+                    Phase::Probe {
+                        mode,
+                        done,
+                        timed,
+                        spent,
+                        then,
+                    }
+                } else {
+                    let mean_us = timed.as_secs_f64() * 1e6 / f64::from(PROBE_STEPS - PROBE_WARMUP);
+                    self.means[index(mode)] = Some(mean_us);
+                    match then {
+                        Some(next) => Phase::Probe {
+                            mode: next,
+                            done: 0,
+                            timed: Duration::ZERO,
+                            spent: Duration::ZERO,
+                            then: None,
+                        },
+                        None => self.decide(),
+                    }
+                }
+            }
+            Phase::Hold { mode, left, stalls } if left > 1 => {
+                let slow = mode == Stepping::Parallel
+                    && self.means[index(Stepping::Serial)]
+                        .is_some_and(|s| wall.as_secs_f64() * 1e6 > s);
+                let stalls = if slow { stalls + 1 } else { 0 };
+                if stalls >= STALLS_TO_REPROBE {
+                    Phase::Probe {
+                        mode: Stepping::Serial,
+                        done: 0,
+                        timed: Duration::ZERO,
+                        spent: Duration::ZERO,
+                        then: Some(Stepping::Parallel),
+                    }
+                } else {
+                    Phase::Hold {
+                        mode,
+                        left: left - 1,
+                        stalls,
+                    }
+                }
+            }
+            // Probe the other way first, then the held one again, so both means are fresh.
+            Phase::Hold { mode, .. } => Phase::Probe {
+                mode: other(mode),
+                done: 0,
+                timed: Duration::ZERO,
+                spent: Duration::ZERO,
+                then: Some(mode),
+            },
+        };
+    }
+
+    fn decide(&mut self) -> Phase {
+        let [p, s] = self.means;
+        self.stats.last_probe_parallel_us = p;
+        self.stats.last_probe_serial_us = s;
+        let choice = match (p, s) {
+            (Some(p), Some(s)) if p < PARALLEL_MARGIN * s => Stepping::Parallel,
+            _ => Stepping::Serial,
+        };
+        match self.stats.choice {
+            Some(prev) if prev == choice => self.hold = (2 * self.hold).min(HOLD_MAX),
+            Some(_) => {
+                self.stats.switches += 1;
+                self.hold = HOLD_MIN;
+            }
+            None => {}
+        }
+        self.stats.choice = Some(choice);
+        Phase::Hold {
+            mode: choice,
+            left: self.hold,
+            stalls: 0,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Drives the choice with a cost per group step for each way.
+    fn run(choice: &mut SteppingChoice, steps: u64, cost_us: impl Fn(u64, Stepping) -> u64) {
+        for k in 0..steps {
+            let m = choice.next();
+            choice.record(Duration::from_micros(cost_us(k, m)));
+        }
+    }
+
+    #[test]
+    fn keeps_parallel_while_it_is_clearly_faster() {
+        let mut c = SteppingChoice::new();
+        run(&mut c, 50_000, |_, m| match m {
+            Stepping::Parallel => 100,
+            Stepping::Serial => 160,
+        });
+        let s = c.stats();
+        assert_eq!(s.choice, Some(Stepping::Parallel));
+        assert_eq!(s.switches, 0);
+        // Probes cost a small share of the run: serial only in probe windows.
+        assert!(s.serial_steps < 50_000 / 50, "{s:?}");
+        assert_eq!(s.last_probe_parallel_us, Some(100.0));
+    }
+
+    #[test]
+    fn falls_back_to_serial_on_a_tie_and_when_parallel_loses() {
+        let mut c = SteppingChoice::new();
+        run(&mut c, 5_000, |_, _| 100);
+        assert_eq!(c.stats().choice, Some(Stepping::Serial), "a tie");
+        let mut c = SteppingChoice::new();
+        run(&mut c, 5_000, |_, m| match m {
+            Stepping::Parallel => 1_700,
+            Stepping::Serial => 200,
+        });
+        let s = c.stats();
+        assert_eq!(s.choice, Some(Stepping::Serial));
+        // Each parallel probe ends after a few steps: the losing way costs almost nothing.
+        assert!(s.parallel_steps < 20, "{s:?}");
+    }
+
+    #[test]
+    fn follows_the_load_through_a_run() {
+        // Quiet (parallel pays) for 20 000 steps, then busy (parallel loses 10x), then quiet again.
+        let cost = |k: u64, m: Stepping| {
+            let busy = (20_000..60_000).contains(&k);
+            match (m, busy) {
+                (Stepping::Parallel, false) => 100,
+                (Stepping::Serial, _) => 170,
+                (Stepping::Parallel, true) => 1_000,
+            }
+        };
+        let mut c = SteppingChoice::new();
+        let mut choices = vec![];
+        for k in 0..120_000u64 {
+            let m = c.next();
+            c.record(Duration::from_micros(cost(k, m)));
+            if k % 1_000 == 999 {
+                choices.push((k, c.stats().choice));
+            }
+        }
+        let at = |k: u64| choices.iter().find(|(j, _)| *j >= k).unwrap().1;
+        assert_eq!(at(19_000), Some(Stepping::Parallel));
+        // Stalled parallel steps end the hold at once: serial within a thousand steps.
+        assert_eq!(at(21_000), Some(Stepping::Serial));
+        assert_eq!(at(119_000), Some(Stepping::Parallel));
+        assert!(c.stats().switches >= 2);
+    }
+}
