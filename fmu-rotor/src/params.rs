@@ -83,9 +83,13 @@ pub struct RotorParams {
     pub d_t_n_s_m: f64,
     /// Gravity acts in -y.
     pub g_m_s2: f64,
-    /// Run-up Omega(t) = 2 pi f_max t / t_ramp, constant f_max afterwards.
+    /// Run-up Omega(t) = 2 pi f_max t / t_ramp, constant f_max afterwards (unless `speed_table`).
     pub f_max_hz: f64,
     pub t_ramp_s: f64,
+    /// A piecewise-linear speed table (time [s], speed [Hz]) in place of the linear run-up: ramps,
+    /// dwells and run-downs; constant at the last speed after the last point. Empty: the run-up.
+    #[serde(default)]
+    pub speed_table: Vec<(f64, f64)>,
     /// Imbalance masses: [compressor wheel, turbine wheel].
     pub imbalance: [Imbalance; 2],
     /// Random disturbance force on the journals (the whirl seed; off by default).
@@ -144,6 +148,7 @@ impl RotorParams {
             g_m_s2: 9.81,
             f_max_hz: 2000.0,
             t_ramp_s: 3.0,
+            speed_table: vec![],
             imbalance: [none(0.230), none(0.020)],
             disturbance: Disturbance::OFF,
             // Displacements of interest are ~1 um (clearance 20 um): 1e-8 m is 0.05 % of C.
@@ -236,6 +241,9 @@ impl RotorParams {
         if self.t_ramp_s <= 0.0 {
             return bad("t_ramp", self.t_ramp_s, "run-up time must be > 0");
         }
+        if !self.speed_table.is_empty() {
+            SpeedTable::new(&self.speed_table)?;
+        }
         if self.z_jc_m == self.z_jt_m {
             return bad("z_JC", self.z_jc_m, "the two bearings must not coincide");
         }
@@ -316,16 +324,147 @@ fn contact_name(film_name: &str) -> &'static str {
     }
 }
 
-/// Prescribed spin: linear run-up to `f_max_hz` in `t_ramp_s`, constant afterwards.
+/// Most points of a speed table (the FMU's `speed_table_t_01` ... `_16`).
+pub const MAX_SPEED_POINTS: usize = 16;
+
+/// A piecewise-linear speed table: knots (t [s], f [Hz]) from t = 0, the spin angle at each knot
+/// precomputed, so every evaluation is one segment's closed form.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SpeedTable {
+    n: usize,
+    t_s: [f64; MAX_SPEED_POINTS],
+    f_hz: [f64; MAX_SPEED_POINTS],
+    /// Spin angle at each knot [rad].
+    phi_rad: [f64; MAX_SPEED_POINTS],
+}
+
+impl SpeedTable {
+    /// Checks the points: 2 ..= 16 of them, the first at t = 0, times strictly increasing, speeds
+    /// finite and >= 0.
+    pub fn new(points: &[(f64, f64)]) -> Result<SpeedTable, RotorError> {
+        let bad = |name: &'static str, value: f64, reason: &'static str| {
+            Err(RotorError::InvalidParameter {
+                name,
+                value,
+                reason,
+            })
+        };
+        let n = points.len();
+        if !(2..=MAX_SPEED_POINTS).contains(&n) {
+            return bad(
+                "speed_table_points",
+                n as f64,
+                "a speed table has 2 to 16 points (0: the linear run-up)",
+            );
+        }
+        for &(t, f) in points {
+            if !t.is_finite() {
+                return bad("speed_table_t", t, "must be finite");
+            }
+            if !(f.is_finite() && f >= 0.0) {
+                return bad("speed_table_f", f, "speed must be finite and >= 0 Hz");
+            }
+        }
+        if points[0].0 != 0.0 {
+            return bad("speed_table_t_01", points[0].0, "the first point is at t = 0");
+        }
+        for w in points.windows(2) {
+            if w[1].0 <= w[0].0 {
+                return bad(
+                    "speed_table_t",
+                    w[1].0,
+                    "times must increase strictly from point to point",
+                );
+            }
+        }
+        let mut tab = SpeedTable {
+            n,
+            t_s: [0.0; MAX_SPEED_POINTS],
+            f_hz: [0.0; MAX_SPEED_POINTS],
+            phi_rad: [0.0; MAX_SPEED_POINTS],
+        };
+        for (k, &(t, f)) in points.iter().enumerate() {
+            tab.t_s[k] = t;
+            tab.f_hz[k] = f;
+            if k > 0 {
+                // Trapezoid: exact for a linear speed over the segment.
+                let dt = t - tab.t_s[k - 1];
+                tab.phi_rad[k] =
+                    tab.phi_rad[k - 1] + std::f64::consts::PI * (tab.f_hz[k - 1] + f) * dt;
+            }
+        }
+        Ok(tab)
+    }
+
+    /// The points as given.
+    pub fn points(&self) -> Vec<(f64, f64)> {
+        (0..self.n).map(|k| (self.t_s[k], self.f_hz[k])).collect()
+    }
+
+    /// Segment of `t` (index of its left knot; the last knot after the end) and the time into it.
+    fn segment(&self, t_s: f64) -> (usize, f64) {
+        let t = t_s.max(0.0);
+        let k = self.t_s[..self.n]
+            .partition_point(|tk| *tk <= t)
+            .saturating_sub(1);
+        (k, t - self.t_s[k])
+    }
+
+    /// Slope of segment k [Hz/s] (0 after the last knot).
+    fn slope(&self, k: usize) -> f64 {
+        if k + 1 < self.n {
+            (self.f_hz[k + 1] - self.f_hz[k]) / (self.t_s[k + 1] - self.t_s[k])
+        } else {
+            0.0
+        }
+    }
+
+    fn angle_rad(&self, t_s: f64) -> f64 {
+        let (k, tau) = self.segment(t_s);
+        self.phi_rad[k]
+            + std::f64::consts::TAU * (self.f_hz[k] * tau + 0.5 * self.slope(k) * tau * tau)
+    }
+
+    fn rate_rad_s(&self, t_s: f64) -> f64 {
+        let (k, tau) = self.segment(t_s);
+        std::f64::consts::TAU * (self.f_hz[k] + self.slope(k) * tau)
+    }
+
+    fn accel_rad_s2(&self, t_s: f64) -> f64 {
+        if t_s < 0.0 {
+            return 0.0;
+        }
+        std::f64::consts::TAU * self.slope(self.segment(t_s).0)
+    }
+}
+
+/// Prescribed spin: linear run-up to `f_max_hz` in `t_ramp_s`, constant afterwards; or a speed
+/// table when `table` is set.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SpeedProfile {
     pub f_max_hz: f64,
     pub t_ramp_s: f64,
+    pub table: Option<SpeedTable>,
 }
 
 impl SpeedProfile {
+    /// The profile the parameters prescribe (a table that fails its checks gives the run-up; the
+    /// parameters' `validate` reports it).
+    pub fn of(p: &RotorParams) -> SpeedProfile {
+        SpeedProfile {
+            f_max_hz: p.f_max_hz,
+            t_ramp_s: p.t_ramp_s,
+            table: (!p.speed_table.is_empty())
+                .then(|| SpeedTable::new(&p.speed_table).ok())
+                .flatten(),
+        }
+    }
+
     /// Spin angle phi(t) [rad] (phi(0) = 0; negative t is treated as t = 0).
     pub fn angle_rad(&self, t_s: f64) -> f64 {
+        if let Some(tab) = &self.table {
+            return tab.angle_rad(t_s);
+        }
         let w = 2.0 * std::f64::consts::PI * self.f_max_hz;
         let t = t_s.max(0.0);
         if t <= self.t_ramp_s {
@@ -336,6 +475,9 @@ impl SpeedProfile {
     }
     /// Omega(t) [rad/s].
     pub fn rate_rad_s(&self, t_s: f64) -> f64 {
+        if let Some(tab) = &self.table {
+            return tab.rate_rad_s(t_s);
+        }
         let w = 2.0 * std::f64::consts::PI * self.f_max_hz;
         let t = t_s.max(0.0);
         if t <= self.t_ramp_s {
@@ -344,12 +486,74 @@ impl SpeedProfile {
             w
         }
     }
-    /// dOmega/dt [rad/s^2] (right-sided at the kink t = t_ramp).
+    /// dOmega/dt [rad/s^2] (right-sided at the kinks).
     pub fn accel_rad_s2(&self, t_s: f64) -> f64 {
+        if let Some(tab) = &self.table {
+            return tab.accel_rad_s2(t_s);
+        }
         if t_s >= 0.0 && t_s < self.t_ramp_s {
             2.0 * std::f64::consts::PI * self.f_max_hz / self.t_ramp_s
         } else {
             0.0
+        }
+    }
+}
+
+#[cfg(test)]
+mod speed_tests {
+    use super::*;
+
+    /// The paper's ramp written as a table gives the ramp's speed, angle and acceleration (to
+    /// round-off), and a ramp-dwell-rundown table matches its closed form: the angle is the exact
+    /// integral of the speed (checked by fine quadrature) and the derivative of the angle.
+    #[test]
+    fn tables_match_the_ramp_and_integrate_exactly() {
+        let ramp = SpeedProfile::of(&RotorParams::paper());
+        let mut p = RotorParams::paper();
+        p.speed_table = vec![(0.0, 0.0), (3.0, 2000.0)];
+        p.validate().unwrap();
+        let tab = SpeedProfile::of(&p);
+        assert!(tab.table.is_some());
+        for t in [0.0, 0.37, 1.5, 2.999, 3.0, 4.2] {
+            let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1.0);
+            assert!(rel(tab.rate_rad_s(t), ramp.rate_rad_s(t)) < 1e-14, "{t}");
+            assert!(rel(tab.angle_rad(t), ramp.angle_rad(t)) < 1e-13, "{t}");
+            assert!(rel(tab.accel_rad_s2(t), ramp.accel_rad_s2(t)) < 1e-14, "{t}");
+        }
+        p.speed_table = vec![(0.0, 0.0), (1.5, 2000.0), (3.0, 2000.0), (4.5, 100.0)];
+        p.validate().unwrap();
+        let prof = SpeedProfile::of(&p);
+        assert!((prof.rate_rad_s(2.0) / std::f64::consts::TAU - 2000.0).abs() < 1e-9);
+        assert!((prof.rate_rad_s(3.75) / std::f64::consts::TAU - 1050.0).abs() < 1e-9);
+        assert!((prof.rate_rad_s(9.0) / std::f64::consts::TAU - 100.0).abs() < 1e-9);
+        assert!(prof.accel_rad_s2(4.0) < 0.0 && prof.accel_rad_s2(2.0) == 0.0);
+        // Angle = integral of the speed (midpoint rule, 1e5 intervals).
+        let n = 100_000;
+        let t_end = 5.0;
+        let h = t_end / n as f64;
+        let quad: f64 = (0..n).map(|i| prof.rate_rad_s((i as f64 + 0.5) * h) * h).sum();
+        assert!((quad - prof.angle_rad(t_end)).abs() < 1e-6 * quad, "{quad}");
+        // d(angle)/dt = rate, inside segments.
+        for t in [0.7, 2.2, 3.9, 6.0] {
+            let d = (prof.angle_rad(t + 1e-6) - prof.angle_rad(t - 1e-6)) / 2e-6;
+            assert!((d - prof.rate_rad_s(t)).abs() < 1e-5 * prof.rate_rad_s(t));
+        }
+    }
+
+    #[test]
+    fn bad_tables_are_refused_with_their_reason() {
+        let mut p = RotorParams::paper();
+        for (table, why) in [
+            (vec![(0.0, 0.0)], "2 to 16"),
+            (vec![(0.1, 0.0), (1.0, 10.0)], "t = 0"),
+            (vec![(0.0, 0.0), (1.0, 10.0), (1.0, 20.0)], "increase"),
+            (vec![(0.0, 0.0), (1.0, -5.0)], ">= 0"),
+            (vec![(0.0, 0.0), (f64::NAN, 5.0)], "finite"),
+            ((0..17).map(|k| (k as f64, 1.0)).collect(), "2 to 16"),
+        ] {
+            p.speed_table = table;
+            let e = p.validate().unwrap_err().to_string();
+            assert!(e.contains(why), "{e}");
         }
     }
 }

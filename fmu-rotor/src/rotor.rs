@@ -130,10 +130,7 @@ fn ring_body(m: f64) -> RigidBody {
 /// Builds the multibody system of the paper; `films` adds linear film springs/dampers between
 /// journal and ring (for tests, static sag and linearization), in addition to the input forces.
 pub fn build_system(p: &RotorParams, films: Option<&[FilmCoefficients; 2]>) -> MultibodySystem {
-    let profile = SpeedProfile {
-        f_max_hz: p.f_max_hz,
-        t_ramp_s: p.t_ramp_s,
-    };
+    let profile = SpeedProfile::of(p);
     let point_masses = p
         .imbalance
         .iter()
@@ -287,10 +284,7 @@ impl Rotor {
             max_steps_per_call: params.max_steps_per_call,
         };
         let integ = GglBdf::new(sys, tol, 0.0, x0, v0, vec![0.0; N_INPUTS])?;
-        let profile = SpeedProfile {
-            f_max_hz: params.f_max_hz,
-            t_ramp_s: params.t_ramp_s,
-        };
+        let profile = SpeedProfile::of(&params);
         Ok(Rotor {
             params,
             profile,

@@ -3,6 +3,7 @@
 //!
 //! Value references are part of the product (third-party masters store them): append, never renumber.
 
+use crate::params::MAX_SPEED_POINTS;
 use crate::{BearingForces, Disturbance, Imbalance, Rotor, RotorError, RotorParams};
 use bearing::{Bore, BoreContact, ContactLaw};
 use fmi2::{DefaultExperiment, Inputs, Log, Model, ModelInfo, StepOutcome, Store, Variable};
@@ -71,6 +72,9 @@ pub mod vr {
     pub const BEARING_ALPHA: u32 = 61;
     pub const BEARING_H_CON_REL: u32 = 62;
     pub const BEARING_C_CON: u32 = 63;
+    /// Speed table: times speed_table_t_01 ..= _16 [s], then speeds speed_table_f_01 ..= _16 [Hz].
+    pub const SPEED_TABLE_T: u32 = 64;
+    pub const SPEED_TABLE_F: u32 = 80;
     /// Integer value references.
     pub const N_STEPS: u32 = 0;
     pub const N_REJECTED: u32 = 1;
@@ -78,6 +82,8 @@ pub mod vr {
     pub const DIST_SEED: u32 = 3;
     pub const MAX_STEPS: u32 = 4;
     pub const BEARING_N_LOBES: u32 = 5;
+    /// Points of the speed table in use (0: the linear run-up f_max, t_ramp).
+    pub const SPEED_TABLE_POINTS: u32 = 6;
     /// Boolean value references.
     pub const CONTACT: u32 = 0;
     pub const BEARING_PLAIN_BORE: u32 = 1;
@@ -109,6 +115,16 @@ pub fn params_from(s: &Store) -> RotorParams {
     p.g_m_s2 = s.real(vr::G);
     p.f_max_hz = s.real(vr::F_MAX);
     p.t_ramp_s = s.real(vr::T_RAMP);
+    // The Integer's range (0 ..= 16) is checked by the FMI layer on every set.
+    let n = s.integer(vr::SPEED_TABLE_POINTS).clamp(0, MAX_SPEED_POINTS as i32) as u32;
+    p.speed_table = (0..n)
+        .map(|k| {
+            (
+                s.real(vr::SPEED_TABLE_T + k),
+                s.real(vr::SPEED_TABLE_F + k),
+            )
+        })
+        .collect();
     for (k, base) in [vr::IMB_C, vr::IMB_T].into_iter().enumerate() {
         p.imbalance[k] = Imbalance {
             mass_kg: s.real(base),
@@ -183,6 +199,51 @@ fn contact_vars() -> Vec<Variable> {
         V::real_output("F_contact_C", vr::F_CONTACT_C, "N", "magnitude of the contact force evaluated here, compressor side (0 unless contact)"),
         V::real_output("F_contact_T", vr::F_CONTACT_T, "N", "magnitude of the contact force evaluated here, turbine side (0 unless contact)"),
     ]
+}
+
+/// The speed table's parameters: how many points are in use, then each point's time and speed.
+fn speed_table_vars() -> Vec<Variable> {
+    let mut v = vec![Variable::integer_parameter(
+        "speed_table_points",
+        vr::SPEED_TABLE_POINTS,
+        0,
+        "points of the piecewise-linear speed table in use (2 to 16; 0: the linear run-up to f_max in t_ramp); the first point is at t = 0, times increase, the speed stays at the last point's afterwards",
+    )
+    .range(Some(0.0), Some(MAX_SPEED_POINTS as f64))];
+    for k in 0..MAX_SPEED_POINTS as u32 {
+        v.push(Variable::real_parameter(
+            leak(format!("speed_table_t_{:02}", k + 1)),
+            vr::SPEED_TABLE_T + k,
+            0.0,
+            "s",
+            "time of a speed-table point",
+        ));
+    }
+    for k in 0..MAX_SPEED_POINTS as u32 {
+        v.push(Variable::real_parameter(
+            leak(format!("speed_table_f_{:02}", k + 1)),
+            vr::SPEED_TABLE_F + k,
+            0.0,
+            "Hz",
+            "rotor speed at a speed-table point",
+        ));
+    }
+    v
+}
+
+/// Variable names are `&'static str` (the table lives for the whole process, built once per
+/// `info()` call): the 32 numbered speed-table names are leaked once and reused.
+fn leak(name: String) -> &'static str {
+    use std::collections::HashMap;
+    use std::sync::{Mutex, OnceLock};
+    static NAMES: OnceLock<Mutex<HashMap<String, &'static str>>> = OnceLock::new();
+    let mut names = NAMES
+        .get_or_init(Default::default)
+        .lock()
+        .unwrap_or_else(|e| e.into_inner());
+    names
+        .entry(name.clone())
+        .or_insert_with(|| Box::leak(name.into_boxed_str()))
 }
 
 fn imbalance_vars(side: &'static [&'static str; 4], base: u32, d: &Imbalance) -> Vec<Variable> {
@@ -549,6 +610,7 @@ impl Model for RotorFmu {
             .range(Some(1.0), Some(crate::params::MAX_STEPS_LIMIT as f64)),
         ]);
         variables.extend(contact_vars());
+        variables.extend(speed_table_vars());
         ModelInfo {
             model_name: "rotor",
             model_identifier: "rotor",

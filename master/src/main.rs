@@ -426,11 +426,10 @@ fn main() -> ExitCode {
             // The system file goes into the run folder only once the run has started.
             let staged = master::out_folder::StagedSystem::new(&s.system_toml(dir_text))?;
             eprintln!(
-                "run-up '{}': {}, 0 -> {} Hz in {} s; macro step {} us -> {}",
+                "run-up '{}': {}, {}; macro step {} us -> {}",
                 s.preset,
                 master::runup::describe_bearings(&s)?,
-                s.f_max_hz,
-                s.t_ramp_s,
+                s.describe_speed(),
                 s.macro_step_us,
                 out.display()
             );

@@ -126,7 +126,7 @@ pub fn write_run_report(dir: &Path, s: &RunSummary) -> Result<PathBuf, String> {
         let _ = writeln!(b, "<p class=\"note\">{}</p>", escape(n));
     }
     b.push_str("<table>\n");
-    let rows = [
+    let mut rows = vec![
         ("onset time", fmt_opt(s.onset_time_s, 4, " s")),
         ("onset speed", fmt_opt(s.onset_speed_hz, 0, " Hz")),
         (
@@ -149,6 +149,17 @@ pub fn write_run_report(dir: &Path, s: &RunSummary) -> Result<PathBuf, String> {
             },
         ),
     ];
+    if let Some(h) = &s.hysteresis {
+        rows.push((
+            "whirl stops (coming down)",
+            match (h.whirl_stop_speed_hz, h.persists_to_end) {
+                (Some(f), _) => format!("{f:.0} Hz at {:.4} s", h.whirl_stop_time_s.unwrap_or(0.0)),
+                (None, true) => "persists to the end of the run".into(),
+                (None, false) => "-".into(),
+            },
+        ));
+        rows.push(("run-down from", format!("{:.4} s", h.run_down_from_s)));
+    }
     for (k, v) in rows {
         let _ = writeln!(b, "<tr><th>{}</th><td>{}</td></tr>", escape(k), escape(&v));
     }

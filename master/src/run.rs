@@ -326,7 +326,15 @@ fn write_summary(
                 c: bores[0].c_m * 1e6,
                 t: bores[1].c_m * 1e6,
             });
-            match plot_runup(&series, &cl, bores, &opts.out_dir) {
+            summary.hysteresis = crate::analysis::hysteresis(&series, &cl);
+            let mut figures = plot_runup(&series, &cl, bores, &opts.out_dir);
+            if let (Ok(files), Some(h)) = (&mut figures, &summary.hysteresis) {
+                match crate::plot::plot_hysteresis(&series, h, &opts.out_dir) {
+                    Ok(more) => files.extend(more),
+                    Err(e) => figures = Err(e),
+                }
+            }
+            match figures {
                 Ok(files) => {
                     summary.plots = Some(
                         files

@@ -15,6 +15,10 @@ pub struct RunupSettings {
     pub dh_um: f64,
     pub f_max_hz: f64,
     pub t_ramp_s: f64,
+    /// A speed profile (time [s], speed [Hz]) in place of the linear run-up f_max / t_ramp:
+    /// ramps, dwells, run-downs (`--profile`); empty: the run-up.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub speed_profile: Vec<(f64, f64)>,
     pub stop_time_s: f64,
     pub macro_step_us: f64,
     pub extrapolation_order: u8,
@@ -92,6 +96,7 @@ impl RunupSettings {
             dh_um: 40.0,
             f_max_hz: 2000.0,
             t_ramp_s: 3.0,
+            speed_profile: Vec::new(),
             stop_time_s: 3.0,
             macro_step_us: DEFAULT_MACRO_STEP_US,
             extrapolation_order: DEFAULT_EXTRAPOLATION_ORDER,
@@ -114,6 +119,11 @@ impl RunupSettings {
     }
 
     pub fn validate(&self) -> Result<(), String> {
+        // First: a bad profile also makes the default stop time (its last point) meaningless.
+        if !self.speed_profile.is_empty() {
+            fmu_rotor::params::SpeedTable::new(&self.speed_profile)
+                .map_err(|e| format!("--profile: {e}"))?;
+        }
         let positive = [
             ("c", self.c_n_per_mm, "N/mm", true),
             ("d", self.d_n_s_per_m, "N s/m", true),
@@ -137,6 +147,7 @@ impl RunupSettings {
         if !(self.dh_um.is_finite() && self.dh_um >= 0.0) {
             return Err(format!("--dh = {} um must be >= 0", self.dh_um));
         }
+
         if self.extrapolation_order > 2 || self.interpolation_order > 2 {
             return Err("polynomial orders must be 0, 1 or 2".into());
         }
@@ -262,17 +273,54 @@ impl RunupSettings {
                 Value::Integer(i64::from(self.disturbance_seed)),
             ),
         ];
+        if !self.speed_profile.is_empty() {
+            v.push((
+                "speed_table_points",
+                Value::Integer(self.speed_profile.len() as i64),
+            ));
+        }
+        let mut v: Vec<(String, Value)> = v.into_iter().map(|(k, x)| (k.to_string(), x)).collect();
+        for (k, (t, f)) in self.speed_profile.iter().enumerate() {
+            v.push((format!("speed_table_t_{:02}", k + 1), Value::Float(*t)));
+            v.push((format!("speed_table_f_{:02}", k + 1), Value::Float(*f)));
+        }
         if self.contact == ContactSide::Rotor {
             // The rotor evaluates the contact on the films' own bore and contact law, derived
             // from the films' final parameters (including `--set film.C=...`), so the two cannot
             // disagree. One bore serves both bearings in the rotor FMU: `validate` refuses films
             // whose bores differ.
-            v.push(("contact", Value::Boolean(true)));
+            v.push(("contact".into(), Value::Boolean(true)));
             if let Ok([film_c, _]) = self.film_params() {
-                v.extend(rotor_contact_parameters(&film_c.bore, &film_c.contact));
+                v.extend(
+                    rotor_contact_parameters(&film_c.bore, &film_c.contact)
+                        .into_iter()
+                        .map(|(k, x)| (k.to_string(), x)),
+                );
             }
         }
-        v.into_iter().map(|(k, x)| (k.to_string(), x)).collect()
+        v
+    }
+
+    /// "0 -> 2000 Hz in 3 s" or the profile's points.
+    pub fn describe_speed(&self) -> String {
+        if self.speed_profile.is_empty() {
+            return format!("0 -> {} Hz in {} s", self.f_max_hz, self.t_ramp_s);
+        }
+        let pts: Vec<String> = self
+            .speed_profile
+            .iter()
+            .map(|(t, f)| format!("{f} Hz at {t} s"))
+            .collect();
+        format!("speed profile {}", pts.join(", "))
+    }
+
+    /// The highest speed the rotor is driven to [Hz].
+    pub fn top_speed_hz(&self) -> f64 {
+        if self.speed_profile.is_empty() {
+            self.f_max_hz
+        } else {
+            self.speed_profile.iter().map(|p| p.1).fold(0.0, f64::max)
+        }
     }
 
     /// An air film's parameters of this run-up as (name, TOML value), before `fmu_parameters`.

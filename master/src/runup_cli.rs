@@ -17,7 +17,12 @@ pub struct RunupArgs {
     /// Run-up duration to f_max [s].
     #[arg(long)]
     pub t_ramp: Option<f64>,
-    /// Simulated time [s] (default: t_ramp).
+    /// Speed profile "T:F,T:F,..." (seconds:Hz, piecewise linear from T = 0, 2 to 16 points,
+    /// constant after the last) in place of --f-max / --t-ramp, e.g. a run-up, a dwell and a
+    /// run-down "0:0,1.5:2000,3:2000,4.5:0".
+    #[arg(long)]
+    pub profile: Option<String>,
+    /// Simulated time [s] (default: t_ramp, or the profile's last time).
     #[arg(long)]
     pub stop: Option<f64>,
     /// Macro (communication) step [us].
@@ -70,6 +75,23 @@ pub struct RunupArgs {
     pub fmu_dir: Option<PathBuf>,
 }
 
+/// "0:0,1.5:2000" -> [(0, 0), (1.5, 2000)]; the table's own checks follow in `validate`.
+fn profile(text: &str) -> Result<Vec<(f64, f64)>, String> {
+    text.split(',')
+        .map(|pair| {
+            let (t, f) = pair.split_once(':').ok_or_else(|| {
+                format!("--profile '{text}': each point is TIME_S:SPEED_HZ, got '{pair}'")
+            })?;
+            let num = |x: &str| {
+                x.trim()
+                    .parse::<f64>()
+                    .map_err(|_| format!("--profile '{text}': '{x}' is not a number"))
+            };
+            Ok((num(t)?, num(f)?))
+        })
+        .collect()
+}
+
 fn triple(s: &str, flag: &str) -> Result<(f64, f64, f64), String> {
     let v: Vec<f64> = s
         .split(',')
@@ -88,7 +110,14 @@ pub fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     let mut s = a.bearing.settings()?;
     s.f_max_hz = a.f_max.unwrap_or(s.f_max_hz);
     s.t_ramp_s = a.t_ramp.unwrap_or(s.t_ramp_s);
-    s.stop_time_s = a.stop.unwrap_or(s.t_ramp_s);
+    if let Some(p) = &a.profile {
+        if a.f_max.is_some() || a.t_ramp.is_some() {
+            return Err("--profile replaces --f-max and --t-ramp: give one or the other".into());
+        }
+        s.speed_profile = profile(p)?;
+    }
+    let profile_end = s.speed_profile.last().map(|p| p.0);
+    s.stop_time_s = a.stop.or(profile_end).unwrap_or(s.t_ramp_s);
     s.macro_step_us = a.macro_step.unwrap_or(s.macro_step_us);
     s.extrapolation_order = a.extrapolation_order.unwrap_or(s.extrapolation_order);
     s.interpolation_order = a.interpolation_order.unwrap_or(s.interpolation_order);

@@ -86,6 +86,10 @@ pub struct RunSummary {
     /// Friction power loss of the films [W]: at the quoted speeds and at most (run-ups whose
     /// films report `power_loss`).
     pub power_loss_w: Option<crate::analysis::PowerLossSummary>,
+    /// Where the whirl started going up and stopped coming down (runs whose speed profile has a
+    /// run-down).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub hysteresis: Option<crate::analysis::Hysteresis>,
     /// File names of the figures written into the run folder.
     pub plots: Option<Vec<String>>,
     pub plot_error: Option<String>,

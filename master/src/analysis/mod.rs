@@ -6,6 +6,7 @@
 
 pub mod classify;
 pub mod csv_series;
+pub mod hysteresis;
 pub mod onset;
 pub mod power;
 pub mod series;
@@ -17,6 +18,7 @@ mod tests;
 
 pub use classify::{classify, Classification, RunClass, WhirlSample};
 pub use csv_series::{load_run, series_from_csv};
+pub use hysteresis::{hysteresis, Hysteresis};
 pub use power::{power_loss_summary, PowerLossSummary};
 pub use series::{Bearing, RunSeries};
 pub use spectrum::{spectrogram, Spectrogram};

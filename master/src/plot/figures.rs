@@ -328,3 +328,55 @@ pub fn bearing_frame(
     }
     c
 }
+
+/// Eccentricity against speed with the speed going up and coming down (a profile with a run-down):
+/// the whirl's hysteresis, with the speeds where it starts and stops marked.
+pub fn hysteresis(series: &RunSeries, h: &crate::analysis::Hysteresis) -> Chart {
+    let speed = series.speed_hz();
+    let ec = series.eps(Bearing::C);
+    let et = series.eps(Bearing::T);
+    let mut c = Chart::new(
+        W,
+        H,
+        "Whirl hysteresis: eccentricity against speed, up and down",
+        "rotor speed [Hz]",
+        "eps = |dr| / C [-]",
+        range(&[&speed]),
+        range(&[&ec, &et]),
+    );
+    let split = series
+        .t_s
+        .iter()
+        .position(|t| *t >= h.run_down_from_s)
+        .unwrap_or(series.len());
+    let buckets = c.frame_width_px();
+    let lighter = |Rgb(r, g, b): Rgb| Rgb(r / 2 + 128, g / 2 + 128, b / 2 + 128);
+    for (eps, name, color) in [(&ec, "C", Rgb::BLUE), (&et, "T", Rgb::RED)] {
+        for (part, dir, col) in [
+            (0..split, "up", color),
+            (split..series.len(), "down", lighter(color)),
+        ] {
+            c.line(
+                decimate_minmax(&speed[part.clone()], &eps[part], buckets),
+                col,
+                1.0,
+                false,
+                Role::Series,
+                &format!("eps_{name} {dir}"),
+            );
+        }
+    }
+    if let Some(f) = h.whirl_start_speed_hz {
+        c.marker(f, "whirl start", Some(format!("whirl starts {f:.0} Hz (up)")));
+    }
+    if let Some(f) = h.whirl_stop_speed_hz {
+        c.marker(f, "whirl stop", Some(format!("whirl stops {f:.0} Hz (down)")));
+    }
+    c.legend(&[
+        ("eps_C up", Rgb::BLUE),
+        ("eps_C down", lighter(Rgb::BLUE)),
+        ("eps_T up", Rgb::RED),
+        ("eps_T down", lighter(Rgb::RED)),
+    ]);
+    c
+}

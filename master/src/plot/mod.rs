@@ -207,6 +207,15 @@ pub fn plot_runup(
     Ok(out)
 }
 
+/// Write the hysteresis figure (`hysteresis.svg`, `.png`) of a run with a run-down into `out_dir`.
+pub fn plot_hysteresis(
+    series: &RunSeries,
+    h: &crate::analysis::Hysteresis,
+    out_dir: &Path,
+) -> std::io::Result<Vec<PathBuf>> {
+    figures::hysteresis(series, h).save(out_dir, "hysteresis")
+}
+
 /// Write the friction power-loss figure (`power_loss.svg`, `.png`) into `out_dir`.
 pub fn plot_power_loss(
     speed_hz: &[f64],
