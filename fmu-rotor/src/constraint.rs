@@ -9,7 +9,7 @@ use crate::params::SpeedProfile;
 use serde::{Deserialize, Serialize};
 
 /// What a constrained coordinate must equal.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub enum Target {
     /// Scleronomic: a constant.
     Fixed(f64),
@@ -18,7 +18,7 @@ pub enum Target {
 }
 
 /// One scalar constraint x[coord] - target(t) = 0.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Constraint {
     pub coord: usize,
     pub target: Target,
@@ -39,8 +39,8 @@ impl Constraint {
     }
     /// target value, first and second time derivatives
     pub fn target(&self, t: f64) -> (f64, f64, f64) {
-        match self.target {
-            Target::Fixed(v) => (v, 0.0, 0.0),
+        match &self.target {
+            Target::Fixed(v) => (*v, 0.0, 0.0),
             Target::Spin(p) => (p.angle_rad(t), p.rate_rad_s(t), p.accel_rad_s2(t)),
         }
     }

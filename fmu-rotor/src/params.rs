@@ -366,7 +366,11 @@ impl SpeedTable {
             }
         }
         if points[0].0 != 0.0 {
-            return bad("speed_table_t_01", points[0].0, "the first point is at t = 0");
+            return bad(
+                "speed_table_t_01",
+                points[0].0,
+                "the first point is at t = 0",
+            );
         }
         for w in points.windows(2) {
             if w[1].0 <= w[0].0 {
@@ -439,12 +443,12 @@ impl SpeedTable {
 }
 
 /// Prescribed spin: linear run-up to `f_max_hz` in `t_ramp_s`, constant afterwards; or a speed
-/// table when `table` is set.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+/// table when `table` is set (boxed: 400 bytes that the ramp does not need to carry).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct SpeedProfile {
     pub f_max_hz: f64,
     pub t_ramp_s: f64,
-    pub table: Option<SpeedTable>,
+    pub table: Option<Box<SpeedTable>>,
 }
 
 impl SpeedProfile {
@@ -455,7 +459,7 @@ impl SpeedProfile {
             f_max_hz: p.f_max_hz,
             t_ramp_s: p.t_ramp_s,
             table: (!p.speed_table.is_empty())
-                .then(|| SpeedTable::new(&p.speed_table).ok())
+                .then(|| SpeedTable::new(&p.speed_table).ok().map(Box::new))
                 .flatten(),
         }
     }
@@ -518,7 +522,10 @@ mod speed_tests {
             let rel = |a: f64, b: f64| (a - b).abs() / b.abs().max(1.0);
             assert!(rel(tab.rate_rad_s(t), ramp.rate_rad_s(t)) < 1e-14, "{t}");
             assert!(rel(tab.angle_rad(t), ramp.angle_rad(t)) < 1e-13, "{t}");
-            assert!(rel(tab.accel_rad_s2(t), ramp.accel_rad_s2(t)) < 1e-14, "{t}");
+            assert!(
+                rel(tab.accel_rad_s2(t), ramp.accel_rad_s2(t)) < 1e-14,
+                "{t}"
+            );
         }
         p.speed_table = vec![(0.0, 0.0), (1.5, 2000.0), (3.0, 2000.0), (4.5, 100.0)];
         p.validate().unwrap();
@@ -531,7 +538,9 @@ mod speed_tests {
         let n = 100_000;
         let t_end = 5.0;
         let h = t_end / n as f64;
-        let quad: f64 = (0..n).map(|i| prof.rate_rad_s((i as f64 + 0.5) * h) * h).sum();
+        let quad: f64 = (0..n)
+            .map(|i| prof.rate_rad_s((i as f64 + 0.5) * h) * h)
+            .sum();
         assert!((quad - prof.angle_rad(t_end)).abs() < 1e-6 * quad, "{quad}");
         // d(angle)/dt = rate, inside segments.
         for t in [0.7, 2.2, 3.9, 6.0] {

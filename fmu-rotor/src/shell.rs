@@ -116,14 +116,11 @@ pub fn params_from(s: &Store) -> RotorParams {
     p.f_max_hz = s.real(vr::F_MAX);
     p.t_ramp_s = s.real(vr::T_RAMP);
     // The Integer's range (0 ..= 16) is checked by the FMI layer on every set.
-    let n = s.integer(vr::SPEED_TABLE_POINTS).clamp(0, MAX_SPEED_POINTS as i32) as u32;
+    let n = s
+        .integer(vr::SPEED_TABLE_POINTS)
+        .clamp(0, MAX_SPEED_POINTS as i32) as u32;
     p.speed_table = (0..n)
-        .map(|k| {
-            (
-                s.real(vr::SPEED_TABLE_T + k),
-                s.real(vr::SPEED_TABLE_F + k),
-            )
-        })
+        .map(|k| (s.real(vr::SPEED_TABLE_T + k), s.real(vr::SPEED_TABLE_F + k)))
         .collect();
     for (k, base) in [vr::IMB_C, vr::IMB_T].into_iter().enumerate() {
         p.imbalance[k] = Imbalance {

@@ -86,7 +86,7 @@ fn prescribed_spin_keeps_constraints_at_tolerance() {
         tot.max_drift_vel,
         mu_max,
         o.spin_angle_rad,
-        SpeedProfile { f_max_hz: 2000.0, t_ramp_s: 0.02 }.angle_rad(o.t_s)
+        SpeedProfile { f_max_hz: 2000.0, t_ramp_s: 0.02, table: None }.angle_rad(o.t_s)
     );
     assert!(tot.max_drift_pos < 1e-9 && tot.max_drift_vel < 1e-9);
     assert!(mu_max < 1e-6);

@@ -31,6 +31,7 @@ impl Minimal {
         let prof = SpeedProfile {
             f_max_hz: p.f_max_hz,
             t_ramp_s: p.t_ramp_s,
+            table: None,
         };
         let (om, omd) = (prof.rate_rad_s(t), prof.accel_rad_s2(t));
         let (x, y, a, b) = (s[0], s[1], s[2], s[3]);

@@ -147,7 +147,10 @@ fn a_run_shorter_than_the_persistence_window_is_too_short_to_classify() {
     let counted = gs["parallel_steps"].as_u64().unwrap() + gs["serial_steps"].as_u64().unwrap();
     assert!(counted >= summary["macro_steps"].as_u64().unwrap(), "{gs}");
     assert!(gs["serial_steps"].as_u64().unwrap() >= 40, "{gs}");
-    assert!(["parallel", "serial"].contains(&gs["choice"].as_str().unwrap()), "{gs}");
+    assert!(
+        ["parallel", "serial"].contains(&gs["choice"].as_str().unwrap()),
+        "{gs}"
+    );
     assert!(gs["last_probe_serial_us"].as_f64().unwrap() > 0.0, "{gs}");
     assert!(summary["criteria"]
         .as_str()

@@ -51,7 +51,10 @@ fn the_rotor_speed_follows_the_table() {
         out,
     ]);
     assert!(ok, "{err}");
-    assert!(err.contains("speed profile 0 Hz at 0 s, 500 Hz at 0.002 s"), "{err}");
+    assert!(
+        err.contains("speed profile 0 Hz at 0 s, 500 Hz at 0.002 s"),
+        "{err}"
+    );
     let system = std::fs::read_to_string(dir.join("system.toml")).unwrap();
     assert!(system.contains("speed_table_points = 3"), "{system}");
     let csv = std::fs::read_to_string(dir.join("timeseries.csv")).unwrap();
@@ -76,13 +79,20 @@ fn the_rotor_speed_follows_the_table() {
     for line in csv.lines().skip(1) {
         let v: Vec<f64> = line.split(',').map(|x| x.parse().unwrap()).collect();
         let f = v[w_col] / std::f64::consts::TAU;
-        assert!((f - expected_hz(v[t_col])).abs() < 1e-6, "t {}: {f} Hz", v[t_col]);
+        assert!(
+            (f - expected_hz(v[t_col])).abs() < 1e-6,
+            "t {}: {f} Hz",
+            v[t_col]
+        );
         n += 1;
     }
     assert!(n > 70, "{n} samples");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    assert_eq!(summary["settings"]["speed_profile"][1], serde_json::json!([0.002, 500.0]));
+    assert_eq!(
+        summary["settings"]["speed_profile"][1],
+        serde_json::json!([0.002, 500.0])
+    );
     // 500 -> 200 Hz is a run-down: the hysteresis entry (no whirl in 4 ms) and its figure.
     let h = &summary["hysteresis"];
     let from = h["run_down_from_s"].as_f64().unwrap();
@@ -91,7 +101,11 @@ fn the_rotor_speed_follows_the_table() {
     let svg = std::fs::read_to_string(dir.join("hysteresis.svg")).unwrap();
     let bad = master::plot::layout::problems(&svg);
     assert!(bad.is_empty(), "{bad:#?}");
-    assert_eq!(svg.matches(r#"class="series""#).count(), 4, "C and T, up and down");
+    assert_eq!(
+        svg.matches(r#"class="series""#).count(),
+        4,
+        "C and T, up and down"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -1,5 +1,6 @@
-//! The packed binaries: exactly the 34 fmi2* symbols, no unexpected shared-library dependencies,
-//! and the GLIBC symbol versions they need (printed for the docs).
+//! The packed binaries: exactly the 34 fmi2* symbols (the FMI 3.0 twins: exactly the 75 fmi3*
+//! ones), no unexpected shared-library dependencies, and the GLIBC symbol versions they need
+//! (printed for the docs).
 
 use integration_tests::fmu_path;
 use std::collections::BTreeSet;
@@ -50,10 +51,38 @@ struct Unpacked(
     std::path::PathBuf,
 );
 
+/// The FMI 3.0 twins, as `fmi3/<id>` under target/fmu.
+pub const FMI3_FMUS: &[&str] = &["fmi3/airfilm", "fmi3/rotor"];
+
 fn unpacked_so(id: &str) -> Unpacked {
     let dir = fmi2::importer::unpack(&fmu_path(id)).unwrap();
-    let so = dir.path().join(format!("binaries/linux64/{id}.so"));
+    let so = match id.strip_prefix("fmi3/") {
+        Some(stem) => dir.path().join(format!("binaries/x86_64-linux/{stem}.so")),
+        None => dir.path().join(format!("binaries/linux64/{id}.so")),
+    };
     Unpacked(dir, so)
+}
+
+fn exported(so: &std::path::Path) -> BTreeSet<String> {
+    let nm = tool("nm", &["-D", "--defined-only"], so);
+    nm.lines()
+        .filter_map(|l| {
+            let mut it = l.split_whitespace();
+            let (_addr, kind, name) = (it.next()?, it.next()?, it.next()?);
+            // Text (code) and data symbols; absolute version nodes are not symbols we export.
+            matches!(kind, "T" | "D" | "B" | "R" | "W" | "V").then(|| name.to_string())
+        })
+        .collect()
+}
+
+#[test]
+fn the_fmi3_twins_export_exactly_the_fmi3_functions() {
+    let expected: BTreeSet<String> = fmi3::FUNCTIONS.iter().map(|s| s.to_string()).collect();
+    assert_eq!(expected.len(), 75);
+    for id in FMI3_FMUS {
+        let so = unpacked_so(id);
+        assert_eq!(exported(&so.1), expected, "{id}: exported symbols");
+    }
 }
 
 fn tool(cmd: &str, args: &[&str], so: &std::path::Path) -> String {
@@ -74,18 +103,8 @@ fn tool(cmd: &str, args: &[&str], so: &std::path::Path) -> String {
 fn only_fmi2_symbols_are_exported() {
     for id in FMUS {
         let so = unpacked_so(id);
-        let nm = tool("nm", &["-D", "--defined-only"], &so.1);
-        let exported: BTreeSet<&str> = nm
-            .lines()
-            .filter_map(|l| {
-                let mut it = l.split_whitespace();
-                let (_addr, kind, name) = (it.next()?, it.next()?, it.next()?);
-                // Text (code) and data symbols; absolute version nodes are not symbols we export.
-                matches!(kind, "T" | "D" | "B" | "R" | "W" | "V").then_some(name)
-            })
-            .collect();
-        let expected: BTreeSet<&str> = FMI2_FUNCTIONS.into_iter().collect();
-        assert_eq!(exported, expected, "{id}: exported symbols");
+        let expected: BTreeSet<String> = FMI2_FUNCTIONS.iter().map(|s| s.to_string()).collect();
+        assert_eq!(exported(&so.1), expected, "{id}: exported symbols");
     }
 }
 
@@ -101,7 +120,7 @@ fn depends_only_on_the_c_runtime() {
         "libpthread.so",
         "librt.so",
     ];
-    for id in FMUS {
+    for id in FMUS.iter().chain(FMI3_FMUS) {
         let so = unpacked_so(id);
         let ldd = tool("ldd", &[], &so.1);
         for line in ldd.lines().map(str::trim).filter(|l| !l.is_empty()) {

@@ -79,25 +79,74 @@ pub fn fmus(glibc: Option<&str>) -> Result<(), String> {
     for (_, stem, info, _) in &table {
         let so = lib_dir.join(format!("lib{stem}.so"));
         let fmu = out_dir.join(format!("{}.fmu", info.model_identifier));
-        pack(info, &so, &fmu)?;
+        pack(info, &so, &fmu, Fmi::V2)?;
+        eprintln!("    packed {}", fmu.display());
+    }
+    // The FMI 3.0 twins: thin cdylibs over the same model crates, built in a second invocation so
+    // the model crates come without their fmi2 `fmu` feature (each library exports one version).
+    let mut cmd = cargo();
+    match glibc {
+        None => cmd.args(["build", "--release", "--lib"]),
+        Some(v) => cmd
+            .args(["zigbuild", "--release", "--lib", "--target"])
+            .arg(format!("x86_64-unknown-linux-gnu.{v}")),
+    };
+    for (pkg, ..) in fmi3_table() {
+        cmd.args(["-p", pkg]);
+    }
+    run("build FMI 3.0 FMU binaries", &mut cmd)?;
+    let out_dir = out_dir.join("fmi3");
+    std::fs::create_dir_all(&out_dir).map_err(|e| e.to_string())?;
+    for (_, stem, info) in fmi3_table() {
+        let so = lib_dir.join(format!("lib{stem}.so"));
+        let fmu = out_dir.join(format!("{}.fmu", info.model_identifier));
+        pack(&info, &so, &fmu, Fmi::V3)?;
         eprintln!("    packed {}", fmu.display());
     }
     Ok(())
 }
 
-fn pack(info: &ModelInfo, so: &std::path::Path, fmu: &std::path::Path) -> Result<(), String> {
+/// The FMI 3.0 twins: (cargo package, library file stem, interface).
+fn fmi3_table() -> Vec<(&'static str, &'static str, ModelInfo)> {
+    vec![
+        (
+            "fmu-airfilm-fmi3",
+            "fmu_airfilm_fmi3",
+            fmu_airfilm::shell::AirFilmFmu::info(),
+        ),
+        (
+            "fmu-rotor-fmi3",
+            "fmu_rotor_fmi3",
+            fmu_rotor::shell::RotorFmu::info(),
+        ),
+    ]
+}
+
+#[derive(Clone, Copy, PartialEq)]
+enum Fmi {
+    V2,
+    V3,
+}
+
+fn pack(
+    info: &ModelInfo,
+    so: &std::path::Path,
+    fmu: &std::path::Path,
+    version: Fmi,
+) -> Result<(), String> {
     let binary = std::fs::read(so).map_err(|e| format!("{}: {e}", so.display()))?;
     let file = std::fs::File::create(fmu).map_err(|e| format!("{}: {e}", fmu.display()))?;
     let mut zip = zip::ZipWriter::new(file);
     let opts = zip::write::SimpleFileOptions::default()
         .compression_method(zip::CompressionMethod::Deflated);
+    let (description, platform) = match version {
+        Fmi::V2 => (fmi2::xml::model_description(info), "linux64"),
+        Fmi::V3 => (fmi3::xml::model_description(info), "x86_64-linux"),
+    };
     let mut entries: Vec<(String, Vec<u8>)> = vec![
+        ("modelDescription.xml".into(), description.into_bytes()),
         (
-            "modelDescription.xml".into(),
-            fmi2::xml::model_description(info).into_bytes(),
-        ),
-        (
-            format!("binaries/linux64/{}.so", info.model_identifier),
+            format!("binaries/{platform}/{}.so", info.model_identifier),
             binary,
         ),
         (
@@ -105,11 +154,12 @@ fn pack(info: &ModelInfo, so: &std::path::Path, fmu: &std::path::Path) -> Result
             fmi2::xml::documentation(info).into_bytes(),
         ),
     ];
-    // Reference results in the FMI Cross-Check layout (scripts/make_reference_results.py).
+    // Reference results in the FMI Cross-Check layout (scripts/make_reference_results.py); they
+    // were made with the FMI 2.0 FMUs.
     let reference = root()
         .join("modelDescriptions/reference")
         .join(info.model_identifier);
-    if let Ok(dir) = std::fs::read_dir(&reference) {
+    if let (Fmi::V2, Ok(dir)) = (version, std::fs::read_dir(&reference)) {
         let mut files: Vec<std::path::PathBuf> = dir.flatten().map(|e| e.path()).collect();
         files.sort();
         for f in files.into_iter().filter(|f| f.is_file()) {
@@ -130,15 +180,27 @@ fn pack(info: &ModelInfo, so: &std::path::Path, fmu: &std::path::Path) -> Result
     Ok(())
 }
 
-/// Writes (or with `check`, compares) `modelDescriptions/<id>.xml` for the shipped FMUs.
+/// Writes (or with `check`, compares) `modelDescriptions/<id>.xml` for the shipped FMUs, and
+/// `modelDescriptions/fmi3/<id>.xml` for their FMI 3.0 twins.
 pub fn descriptions(check: bool) -> Result<(), String> {
     let dir = root().join("modelDescriptions");
-    for (_, _, info, shipped) in fmus_table() {
-        if !shipped {
-            continue;
-        }
-        let path = dir.join(format!("{}.xml", info.model_identifier));
-        let xml = fmi2::xml::model_description(&info);
+    let v2 = fmus_table()
+        .into_iter()
+        .filter(|t| t.3)
+        .map(|(_, _, info, _)| {
+            (
+                dir.join(format!("{}.xml", info.model_identifier)),
+                fmi2::xml::model_description(&info),
+            )
+        });
+    let v3 = fmi3_table().into_iter().map(|(_, _, info)| {
+        (
+            dir.join("fmi3")
+                .join(format!("{}.xml", info.model_identifier)),
+            fmi3::xml::model_description(&info),
+        )
+    });
+    for (path, xml) in v2.chain(v3) {
         if check {
             let on_disk = std::fs::read_to_string(&path).unwrap_or_default();
             if on_disk != xml {
@@ -148,6 +210,9 @@ pub fn descriptions(check: bool) -> Result<(), String> {
                 ));
             }
         } else {
+            if let Some(parent) = path.parent() {
+                std::fs::create_dir_all(parent).map_err(|e| e.to_string())?;
+            }
             std::fs::write(&path, xml).map_err(|e| format!("{}: {e}", path.display()))?;
             eprintln!("    wrote {}", path.display());
         }

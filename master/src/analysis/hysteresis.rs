@@ -49,7 +49,8 @@ pub fn hysteresis(series: &RunSeries, class: &Classification) -> Option<Hysteres
     let tracks: Vec<(Bearing, OscTrack)> = Bearing::BOTH
         .iter()
         .map(|b| {
-            let tr = onset::oscillation_track(series, *b, &spin, onset::AMP_WINDOW_S, onset::AMP_HOP_S);
+            let tr =
+                onset::oscillation_track(series, *b, &spin, onset::AMP_WINDOW_S, onset::AMP_HOP_S);
             (*b, tr)
         })
         .collect();
@@ -77,7 +78,11 @@ pub fn hysteresis(series: &RunSeries, class: &Classification) -> Option<Hysteres
             stop = Some(stop.map_or(t, |s: f64| s.max(t)));
         }
     }
-    let (stop, persists) = if persists { (None, true) } else { (stop, false) };
+    let (stop, persists) = if persists {
+        (None, true)
+    } else {
+        (stop, false)
+    };
     Some(Hysteresis {
         run_down_from_s: series.t_s[down],
         whirl_start_time_s: class.onset_time_s,
@@ -153,7 +158,10 @@ mod tests {
             }
         }
         let h = hysteresis(&s, &classify(&s)).unwrap();
-        assert!(h.persists_to_end && h.whirl_stop_speed_hz.is_none(), "{h:?}");
+        assert!(
+            h.persists_to_end && h.whirl_stop_speed_hz.is_none(),
+            "{h:?}"
+        );
         let plain = base(5e-5, 3.0);
         assert!(run_down_start(&plain).is_none());
         assert!(hysteresis(&plain, &classify(&plain)).is_none());

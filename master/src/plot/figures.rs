@@ -367,10 +367,18 @@ pub fn hysteresis(series: &RunSeries, h: &crate::analysis::Hysteresis) -> Chart 
         }
     }
     if let Some(f) = h.whirl_start_speed_hz {
-        c.marker(f, "whirl start", Some(format!("whirl starts {f:.0} Hz (up)")));
+        c.marker(
+            f,
+            "whirl start",
+            Some(format!("whirl starts {f:.0} Hz (up)")),
+        );
     }
     if let Some(f) = h.whirl_stop_speed_hz {
-        c.marker(f, "whirl stop", Some(format!("whirl stops {f:.0} Hz (down)")));
+        c.marker(
+            f,
+            "whirl stop",
+            Some(format!("whirl stops {f:.0} Hz (down)")),
+        );
     }
     c.legend(&[
         ("eps_C up", Rgb::BLUE),

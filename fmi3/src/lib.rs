@@ -1,0 +1,118 @@
+//! FMI 3.0 Co-Simulation export of any `fmi2::Model`: the twin of fmi2's export layer.
+//!
+//! The model code stays version-neutral (`fmi2::Model`); this crate wraps the fmi2 instance (its
+//! call-state machine, store, model and FMU-state blobs are reused as they are) in the FMI 3.0 C
+//! ABI:
+//!
+//! - `types`: `#[repr(C)]` mirror of `fmi3PlatformTypes.h` / `fmi3FunctionTypes.h`.
+//! - `value_refs`: FMI 3.0 value references (unique across types) from the per-type fmi2 ones,
+//!   plus the independent variable `time`.
+//! - `state`: the FMI 3.0 call-state masks, one per function, over the fmi2 instance's phase.
+//! - `logging`: the FMI 3.0 log callback behind the fmi2 logger (a C bridge: src/log_bridge.c).
+//! - `instance`: one FMI 3.0 instance around an `fmi2::instance::Instance`.
+//! - `ffi` + `export_fmu!`: all 75 `fmi3*` functions of `fmi3Functions.h`, each behind
+//!   `catch_unwind`; the Co-Simulation ones are real, the others return fmi3Error with a reason.
+//! - `xml`: the FMI 3.0 modelDescription.xml.
+//!
+//! Inputs within a step: FMI 3.0 has no input derivatives, so an input keeps the value set before
+//! fmi3DoStep over the whole step (the fmi2 `Inputs` get zero derivatives, as for an FMI 2.0
+//! master that sets none). Intermediate update (`fmi3IntermediateUpdateCallback`, variables with
+//! `intermediateUpdate="true"`) is the planned way to take inputs within a step and is NOT
+//! implemented yet: the description says `providesIntermediateUpdate="false"`.
+//!
+//! Events are not used: `hasEventMode="false"`, fmi3InstantiateCoSimulation refuses
+//! `eventModeUsed = true` (FMI 3.0 requires that), and fmi3DoStep never signals an event or
+//! returns early. Several instances per process are independent (no globals).
+
+/// The 75 functions of fmi3Functions.h (FMI 3.0.2): what `export_fmu!` defines, and exactly what
+/// an FMI 3.0 FMU's library exports (tests/tests/fmu_binaries.rs).
+pub const FUNCTIONS: [&str; 75] = [
+    "fmi3ActivateModelPartition",
+    "fmi3CompletedIntegratorStep",
+    "fmi3DeserializeFMUState",
+    "fmi3DoStep",
+    "fmi3EnterConfigurationMode",
+    "fmi3EnterContinuousTimeMode",
+    "fmi3EnterEventMode",
+    "fmi3EnterInitializationMode",
+    "fmi3EnterStepMode",
+    "fmi3EvaluateDiscreteStates",
+    "fmi3ExitConfigurationMode",
+    "fmi3ExitInitializationMode",
+    "fmi3FreeFMUState",
+    "fmi3FreeInstance",
+    "fmi3GetAdjointDerivative",
+    "fmi3GetBinary",
+    "fmi3GetBoolean",
+    "fmi3GetClock",
+    "fmi3GetContinuousStateDerivatives",
+    "fmi3GetContinuousStates",
+    "fmi3GetDirectionalDerivative",
+    "fmi3GetEventIndicators",
+    "fmi3GetFMUState",
+    "fmi3GetFloat32",
+    "fmi3GetFloat64",
+    "fmi3GetInt16",
+    "fmi3GetInt32",
+    "fmi3GetInt64",
+    "fmi3GetInt8",
+    "fmi3GetIntervalDecimal",
+    "fmi3GetIntervalFraction",
+    "fmi3GetNominalsOfContinuousStates",
+    "fmi3GetNumberOfContinuousStates",
+    "fmi3GetNumberOfEventIndicators",
+    "fmi3GetNumberOfVariableDependencies",
+    "fmi3GetOutputDerivatives",
+    "fmi3GetShiftDecimal",
+    "fmi3GetShiftFraction",
+    "fmi3GetString",
+    "fmi3GetUInt16",
+    "fmi3GetUInt32",
+    "fmi3GetUInt64",
+    "fmi3GetUInt8",
+    "fmi3GetVariableDependencies",
+    "fmi3GetVersion",
+    "fmi3InstantiateCoSimulation",
+    "fmi3InstantiateModelExchange",
+    "fmi3InstantiateScheduledExecution",
+    "fmi3Reset",
+    "fmi3SerializeFMUState",
+    "fmi3SerializedFMUStateSize",
+    "fmi3SetBinary",
+    "fmi3SetBoolean",
+    "fmi3SetClock",
+    "fmi3SetContinuousStates",
+    "fmi3SetDebugLogging",
+    "fmi3SetFMUState",
+    "fmi3SetFloat32",
+    "fmi3SetFloat64",
+    "fmi3SetInt16",
+    "fmi3SetInt32",
+    "fmi3SetInt64",
+    "fmi3SetInt8",
+    "fmi3SetIntervalDecimal",
+    "fmi3SetIntervalFraction",
+    "fmi3SetShiftDecimal",
+    "fmi3SetShiftFraction",
+    "fmi3SetString",
+    "fmi3SetTime",
+    "fmi3SetUInt16",
+    "fmi3SetUInt32",
+    "fmi3SetUInt64",
+    "fmi3SetUInt8",
+    "fmi3Terminate",
+    "fmi3UpdateDiscreteStates",
+];
+
+pub mod export;
+pub mod export_unsupported;
+pub mod ffi;
+pub mod instance;
+pub mod logging;
+pub mod state;
+pub mod types;
+pub mod value_refs;
+pub mod xml;
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,10 @@
+//! Tests through the exported C functions, with a small test model (`lag`).
+
+mod api;
+mod fmu;
+mod lag;
+mod state;
+mod xml;
+
+// One model per binary, as in a cdylib.
+crate::export_fmu!(lag::Lag);
