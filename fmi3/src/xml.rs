@@ -16,6 +16,28 @@ fn num(x: f64) -> String {
 
 pub const GENERATION_TOOL: &str = "AirRing fmi3 layer";
 
+/// The declared type of a Float64 in `unit` shown in `display`: "m", or "m, shown in um".
+fn type_name(unit: &str, display: Option<&str>) -> String {
+    match display {
+        Some(d) => format!("{unit}, shown in {d}"),
+        None => unit.to_string(),
+    }
+}
+
+/// Every (unit, display unit) of the model's Real variables, and "s" for time; sorted.
+fn float_types(info: &ModelInfo) -> Vec<(&'static str, Option<&'static str>)> {
+    let mut t: Vec<(&str, Option<&str>)> = info
+        .variables
+        .iter()
+        .filter(|v| v.var_type == VarType::Real)
+        .filter_map(|v| v.unit.map(|u| (u, v.display_unit)))
+        .chain(std::iter::once(("s", None)))
+        .collect();
+    t.sort_unstable();
+    t.dedup();
+    t
+}
+
 /// Highest output derivative order: fmi3GetOutputDerivatives serves `Model::output_derivative`,
 /// and the `Model` trait does not declare an order; 1, as in the FMI 2.0 description.
 pub const MAX_OUTPUT_DERIVATIVE_ORDER: u32 = 1;
@@ -81,6 +103,24 @@ pub fn model_description(info: &ModelInfo) -> String {
     }
     writeln!(x, "  </UnitDefinitions>").unwrap();
 
+    // Units reach the Float64 variables through declared types (one per unit and display unit),
+    // not as attributes of each variable: both are valid FMI 3.0, and importers with a strict
+    // schema (rust-fmi 0.8) accept only this form.
+    writeln!(x, "  <TypeDefinitions>").unwrap();
+    for (unit, display) in float_types(info) {
+        let display_attr = display
+            .map(|d| format!(r#" displayUnit="{}""#, escape(d)))
+            .unwrap_or_default();
+        writeln!(
+            x,
+            r#"    <Float64Type name="{}" unit="{}"{display_attr}/>"#,
+            escape(&type_name(unit, display)),
+            escape(unit)
+        )
+        .unwrap();
+    }
+    writeln!(x, "  </TypeDefinitions>").unwrap();
+
     writeln!(x, "  <LogCategories>").unwrap();
     for (name, desc) in all_log_categories(info) {
         writeln!(
@@ -105,7 +145,7 @@ pub fn model_description(info: &ModelInfo) -> String {
     writeln!(x, "  <ModelVariables>").unwrap();
     writeln!(
         x,
-        r#"    <Float64 name="{TIME_NAME}" valueReference="{TIME_VR}" description="Simulation time" causality="independent" variability="continuous" unit="s"/>"#
+        r#"    <Float64 name="{TIME_NAME}" valueReference="{TIME_VR}" description="Simulation time" causality="independent" variability="continuous" declaredType="s"/>"#
     )
     .unwrap();
     for v in &info.variables {
@@ -123,10 +163,8 @@ pub fn model_description(info: &ModelInfo) -> String {
         match v.var_type {
             VarType::Real => {
                 if let Some(u) = v.unit {
-                    write!(attrs, r#" unit="{}""#, escape(u)).unwrap();
-                }
-                if let Some(d) = v.display_unit {
-                    write!(attrs, r#" displayUnit="{}""#, escape(d)).unwrap();
+                    let t = type_name(u, v.display_unit);
+                    write!(attrs, r#" declaredType="{}""#, escape(&t)).unwrap();
                 }
                 if let Some(m) = v.min {
                     write!(attrs, r#" min="{}""#, num(m)).unwrap();

@@ -88,7 +88,7 @@ fn description_is_well_formed_and_matches_fmi2() {
                 sv.attribute("name")
             );
         }
-        for a in ["unit", "displayUnit", "min", "max", "start"] {
+        for a in ["min", "max", "start"] {
             assert_eq!(
                 typed.attribute(a),
                 v3.attribute(a),
@@ -96,6 +96,20 @@ fn description_is_well_formed_and_matches_fmi2() {
                 sv.attribute("name")
             );
         }
+        // Unit and display unit come through the declared type (TypeDefinitions).
+        let declared = v3.attribute("declaredType").map(|t| {
+            let ty = child("TypeDefinitions")
+                .children()
+                .find(|n| n.attribute("name") == Some(t))
+                .unwrap_or_else(|| panic!("type {t} undefined"));
+            (ty.attribute("unit"), ty.attribute("displayUnit"))
+        });
+        assert_eq!(
+            declared.unwrap_or((None, None)),
+            (typed.attribute("unit"), typed.attribute("displayUnit")),
+            "units of {:?}",
+            sv.attribute("name")
+        );
         let var = info.by_name(sv.attribute("name").unwrap()).unwrap();
         let vr3: u32 = v3.attribute("valueReference").unwrap().parse().unwrap();
         assert_eq!(vr3, to_fmi3(var.var_type, var.vr));
@@ -106,10 +120,9 @@ fn description_is_well_formed_and_matches_fmi2() {
         .children()
         .filter_map(|u| u.attribute("name"))
         .collect();
-    for v in &vars {
-        if let Some(u) = v.attribute("unit") {
-            assert!(units.contains(u), "unit {u} undefined");
-        }
+    for t in child("TypeDefinitions").children().filter(|n| n.is_element()) {
+        let u = t.attribute("unit").unwrap();
+        assert!(units.contains(u), "unit {u} undefined");
     }
 
     // Outputs in ModelStructure: every output, no direct dependencies; InitialUnknowns exist.
