@@ -44,8 +44,16 @@ fn the_presets_fall_into_their_paths_with_the_borderline_flag_where_a_bound_is_c
         assert_eq!(c.borderline, borderline, "{preset}: {:?}", c.margins);
         let f = c.onset_speed_hz.unwrap();
         assert!((f / onset_hz - 1.0).abs() < 1e-3, "{preset}: onset {f} Hz");
-        assert!((c.max_eps_c / eps_c - 1.0).abs() < 0.01, "{preset}: {}", c.max_eps_c);
-        assert!((c.max_eps_t / eps_t - 1.0).abs() < 0.01, "{preset}: {}", c.max_eps_t);
+        assert!(
+            (c.max_eps_c / eps_c - 1.0).abs() < 0.01,
+            "{preset}: {}",
+            c.max_eps_c
+        );
+        assert!(
+            (c.max_eps_t / eps_t - 1.0).abs() < 0.01,
+            "{preset}: {}",
+            c.max_eps_t
+        );
         // Every criterion states its value, bound and margin; a borderline class has a deciding
         // criterion within 10 % of its bound, and only then.
         assert_eq!(c.margins.len(), 5, "{preset}");
@@ -89,7 +97,10 @@ fn classify_reads_a_folder_of_an_earlier_version() {
     let keep: Vec<usize> = (0..header.len())
         .filter(|k| !header[*k].starts_with("film_"))
         .collect();
-    assert!(keep.len() < header.len(), "the recorded series has the films' eps");
+    assert!(
+        keep.len() < header.len(),
+        "the recorded series has the films' eps"
+    );
     let mut old = String::new();
     for line in std::iter::once(header.join(",")).chain(lines.map(String::from)) {
         let v: Vec<&str> = line.split(',').collect();
@@ -101,7 +112,11 @@ fn classify_reads_a_folder_of_an_earlier_version() {
         .args(["classify", dir.to_str().unwrap()])
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["classification"], "path2b", "{v}");
     let _ = std::fs::remove_dir_all(&dir);

@@ -50,7 +50,15 @@ impl Theirs {
     fn step(&mut self, t: f64, h: f64) {
         let (mut event, mut terminate, mut early, mut last) = (false, false, false, 0.0);
         self.inst
-            .do_step(t, h, true, &mut event, &mut terminate, &mut early, &mut last)
+            .do_step(
+                t,
+                h,
+                true,
+                &mut event,
+                &mut terminate,
+                &mut early,
+                &mut last,
+            )
             .expect("rust-fmi doStep");
         assert!(!event && !terminate && !early && last == t + h);
     }
@@ -110,7 +118,12 @@ fn airfilm_twin_through_rust_fmi_equals_the_fmi2_fmu() {
         b.step(t, h);
         for n in outputs {
             let (va, vb) = (a.get(n), b.get(n));
-            assert_eq!(va.to_bits(), vb.to_bits(), "{n} at {} s: {va:e} vs {vb:e}", t + h);
+            assert_eq!(
+                va.to_bits(),
+                vb.to_bits(),
+                "{n} at {} s: {va:e} vs {vb:e}",
+                t + h
+            );
         }
     }
     assert!(a.get("p_max") > 101325.0);
@@ -132,9 +145,23 @@ fn rotor_twin_through_rust_fmi_equals_the_fmi2_fmu() {
         }
         a.step(t, h);
         b.step(t, h);
-        for n in ["x_JC", "y_JC", "y_JT", "x_RC", "omega", "spin_angle", "dx_C", "vy_T"] {
+        for n in [
+            "x_JC",
+            "y_JC",
+            "y_JT",
+            "x_RC",
+            "omega",
+            "spin_angle",
+            "dx_C",
+            "vy_T",
+        ] {
             let (va, vb) = (a.get(n), b.get(n));
-            assert_eq!(va.to_bits(), vb.to_bits(), "{n} at {} s: {va:e} vs {vb:e}", t + h);
+            assert_eq!(
+                va.to_bits(),
+                vb.to_bits(),
+                "{n} at {} s: {va:e} vs {vb:e}",
+                t + h
+            );
         }
     }
     assert!(a.get("omega") > 0.0);

@@ -120,7 +120,10 @@ fn description_is_well_formed_and_matches_fmi2() {
         .children()
         .filter_map(|u| u.attribute("name"))
         .collect();
-    for t in child("TypeDefinitions").children().filter(|n| n.is_element()) {
+    for t in child("TypeDefinitions")
+        .children()
+        .filter(|n| n.is_element())
+    {
         let u = t.attribute("unit").unwrap();
         assert!(units.contains(u), "unit {u} undefined");
     }
