@@ -314,15 +314,6 @@ impl RunupSettings {
         format!("speed profile {}", pts.join(", "))
     }
 
-    /// The highest speed the rotor is driven to [Hz].
-    pub fn top_speed_hz(&self) -> f64 {
-        if self.speed_profile.is_empty() {
-            self.f_max_hz
-        } else {
-            self.speed_profile.iter().map(|p| p.1).fold(0.0, f64::max)
-        }
-    }
-
     /// An air film's parameters of this run-up as (name, TOML value), before `fmu_parameters`.
     fn film_parameters(&self) -> Vec<(String, Value)> {
         let mut v: Vec<(&str, Value)> = vec![
