@@ -85,6 +85,7 @@ const IGNORED_BY_LINEAR: &[&str] = &[
     "disturbance_seed",
     "imbalance_c",
     "imbalance_t",
+    "profile",
     "stop",
 ];
 

@@ -16,6 +16,7 @@ pub const KEYS: &[(&str, &str, &str, &str)] = &[
     ("m_r", "mR", "m_r_g", "g"),
     ("f_max", "fmax", "f_max_hz", "Hz"),
     ("t_ramp", "tramp", "t_ramp_s", "s"),
+    ("profile", "prof", "", ""),
     ("stop", "stop", "stop_time_s", "s"),
     ("macro_step", "H", "macro_step_us", "us"),
     ("extrapolation_order", "ex", "extrapolation_order", ""),
@@ -596,6 +597,10 @@ d = 50
             ("name = \"../../../../x\"\n", "may not start with a dot"),
             ("name = \"a/b\"\n", "only letters"),
             ("[fixed]\n\"film.eta\" = -1\n", "eta"),
+            (
+                "[[grid]]\nprofile = [\"0:0,1:1500,2:0\", \"0:0,1:100,0.5:0\"]\n",
+                "times must increase",
+            ),
         ] {
             let e = Study::parse(text, Path::new("x.toml")).unwrap_err();
             assert!(e.contains(why), "{text}: {e}");
@@ -609,5 +614,15 @@ d = 50
         assert_eq!(run_name(&v), "--");
         v.insert("preset".to_string(), ".hidden".to_string());
         assert_eq!(run_name(&v), "-hidden");
+    }
+
+    /// Speed profiles are a study key: each point its own run, named by its profile.
+    #[test]
+    fn speed_profiles_can_be_swept() {
+        let text =
+            "[fixed]\nstop = 0.002\n[[grid]]\nprofile = [\"0:0,1:1500,2:0\", \"0:0,1:1800,2:0\"]\n";
+        let study = Study::parse(text, Path::new("x.toml")).unwrap();
+        let names: Vec<&str> = study.runs.iter().map(|r| r.name.as_str()).collect();
+        assert_eq!(names, ["prof0-0-1-1500-2-0", "prof0-0-1-1800-2-0"]);
     }
 }
