@@ -83,6 +83,25 @@ fn the_cosim_library_links_no_physics_and_no_application_crates() {
     }
 }
 
+/// The FMI 3.0 layer knows the FMI 2.0 layer's model interface and no model; each twin links its
+/// own model crate only; the physics crates do not know FMI 3.0 exists.
+#[test]
+fn the_fmi3_layer_links_no_model_and_each_twin_only_its_own() {
+    let g = graph();
+    let fmi3 = closure(&g, "fmi3");
+    assert!(fmi3.contains("fmi2"), "{fmi3:?}");
+    for forbidden in ["fmu-airfilm", "fmu-rotor", "bearing", "cosim", "master"] {
+        assert!(!fmi3.contains(forbidden), "fmi3 links {forbidden}");
+    }
+    let film3 = closure(&g, "fmu-airfilm-fmi3");
+    let rotor3 = closure(&g, "fmu-rotor-fmi3");
+    assert!(film3.contains("fmu-airfilm") && !film3.contains("fmu-rotor"), "{film3:?}");
+    assert!(rotor3.contains("fmu-rotor") && !rotor3.contains("fmu-airfilm"), "{rotor3:?}");
+    for model in ["fmu-airfilm", "fmu-rotor", "cosim"] {
+        assert!(!closure(&g, model).contains("fmi3"), "{model} links fmi3");
+    }
+}
+
 #[test]
 fn the_rotor_does_not_link_the_air_film_and_both_share_the_bearing_crate() {
     let g = graph();
