@@ -95,8 +95,14 @@ fn the_fmi3_layer_links_no_model_and_each_twin_only_its_own() {
     }
     let film3 = closure(&g, "fmu-airfilm-fmi3");
     let rotor3 = closure(&g, "fmu-rotor-fmi3");
-    assert!(film3.contains("fmu-airfilm") && !film3.contains("fmu-rotor"), "{film3:?}");
-    assert!(rotor3.contains("fmu-rotor") && !rotor3.contains("fmu-airfilm"), "{rotor3:?}");
+    assert!(
+        film3.contains("fmu-airfilm") && !film3.contains("fmu-rotor"),
+        "{film3:?}"
+    );
+    assert!(
+        rotor3.contains("fmu-rotor") && !rotor3.contains("fmu-airfilm"),
+        "{rotor3:?}"
+    );
     for model in ["fmu-airfilm", "fmu-rotor", "cosim"] {
         assert!(!closure(&g, model).contains("fmi3"), "{model} links fmi3");
     }
