@@ -4,15 +4,9 @@
 
 use crate::logging::all_log_categories;
 use crate::value_refs::{self, TIME_NAME, TIME_VR};
-use fmi2::units;
 use fmi2::variables::{Causality, Initial, ModelInfo, VarType};
-use fmi2::xml::escape;
+use fmi2::xml::{escape, num, unit_definitions};
 use std::fmt::Write;
-
-/// Shortest decimal that reads back to the same f64.
-fn num(x: f64) -> String {
-    format!("{x:?}")
-}
 
 pub const GENERATION_TOOL: &str = "AirRing fmi3 layer";
 
@@ -77,31 +71,7 @@ pub fn model_description(info: &ModelInfo) -> String {
     used.push("s");
     used.sort_unstable();
     used.dedup();
-    writeln!(x, "  <UnitDefinitions>").unwrap();
-    for name in used {
-        let u = units::unit(name).expect("units checked by ModelInfo::check");
-        writeln!(x, r#"    <Unit name="{}">"#, escape(u.name)).unwrap();
-        let labels = ["kg", "m", "s", "A", "K", "mol", "cd", "rad"];
-        let mut base = String::new();
-        for (l, e) in labels.iter().zip(u.base) {
-            if e != 0 {
-                write!(base, r#" {l}="{e}""#).unwrap();
-            }
-        }
-        writeln!(x, "      <BaseUnit{base}/>").unwrap();
-        for (dn, factor, offset) in u.display_units {
-            writeln!(
-                x,
-                r#"      <DisplayUnit name="{}" factor="{}" offset="{}"/>"#,
-                escape(dn),
-                num(*factor),
-                num(*offset)
-            )
-            .unwrap();
-        }
-        writeln!(x, "    </Unit>").unwrap();
-    }
-    writeln!(x, "  </UnitDefinitions>").unwrap();
+    x.push_str(&unit_definitions(&used));
 
     // Units reach the Float64 variables through declared types (one per unit and display unit),
     // not as attributes of each variable: both are valid FMI 3.0, and importers with a strict
