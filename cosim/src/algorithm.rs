@@ -724,6 +724,27 @@ impl CoSim {
         }
         self.t = t;
         self.level = state.refine_level;
+        // A roll-back point saved before belongs to another course of the run.
+        self.saved = None;
+        Ok(())
+    }
+
+    /// Keeps of each subsystem's coupling history only the current point, read afresh from the
+    /// FMUs. For a state set from outside the run (a shooting method's start state, put in with
+    /// [`CoSim::restore_checkpoint`]): the input polynomials then start again as at t = 0
+    /// instead of spanning the jump.
+    pub fn restart_coupling_histories(&mut self) -> Result<(), StepError> {
+        let t = self.t;
+        for s in &mut self.subs {
+            let v = s.read_coupling().map_err(|error| StepError {
+                subsystem: s.name.clone(),
+                error,
+                t_s: t,
+            })?;
+            s.history.clear();
+            s.push_history(t, v);
+        }
+        self.saved = None;
         Ok(())
     }
 

@@ -17,6 +17,18 @@ use serde::{Deserialize, Serialize};
 pub const ROTOR: usize = 0;
 pub const RING_C: usize = 1;
 pub const RING_T: usize = 2;
+/// The free lateral coordinates (indices into the 18 body coordinates): the rotor's centre
+/// x, y and its tilts about x, y; each ring's x, y.
+pub const LATERAL_COORDS: [usize; 8] = [
+    0,
+    1,
+    3,
+    4,
+    6 * RING_C,
+    6 * RING_C + 1,
+    6 * RING_T,
+    6 * RING_T + 1,
+];
 /// Integrator inputs: the two film forces (x, y each), then the four disturbance components.
 pub const N_INPUTS: usize = 4 + crate::disturbance::CHANNELS;
 
@@ -301,6 +313,57 @@ impl Rotor {
     /// The integrator (state vectors, multipliers, cumulative statistics).
     pub fn integrator(&self) -> &GglBdf {
         &self.integ
+    }
+
+    /// The lateral state a periodic-orbit search varies: positions (rotor centre x, y [m], its
+    /// tilts about x and y [rad], ring C x, y, ring T x, y [m]), then their rates (same order,
+    /// per second). The axial and spin coordinates follow from the constraints.
+    pub fn lateral_state(&self) -> [f64; 2 * LATERAL_COORDS.len()] {
+        let (x, v) = (self.integ.x(), self.integ.v());
+        let mut s = [0.0; 2 * LATERAL_COORDS.len()];
+        for (k, &i) in LATERAL_COORDS.iter().enumerate() {
+            s[k] = x[i];
+            s[LATERAL_COORDS.len() + k] = v[i];
+        }
+        s
+    }
+
+    /// Starts again at the current time from `lateral` (as [`Rotor::lateral_state`] gives it),
+    /// spinning at a constant `speed_hz` from t = 0 on (the spin angle 2 pi f t): the period map
+    /// of a constant-speed whirl is this rotor advanced from a chosen state. The BDF history is
+    /// dropped (the integrator restarts at order 1); the step statistics go on counting.
+    pub fn restart_constant_speed(
+        &mut self,
+        lateral: &[f64; 2 * LATERAL_COORDS.len()],
+        speed_hz: f64,
+    ) -> Result<(), RotorError> {
+        if lateral.iter().any(|v| !v.is_finite()) {
+            return Err(RotorError::InvalidInput(format!(
+                "lateral state must be finite: {lateral:?}"
+            )));
+        }
+        let mut params = self.params.clone();
+        let t = self.integ.t();
+        params.speed_table = vec![(0.0, speed_hz), (t.max(0.0) + 1.0, speed_hz)];
+        params.validate()?;
+        let sys = build_system(&params, None);
+        let mut x = self.integ.x().to_vec();
+        let mut v = self.integ.v().to_vec();
+        for (k, &i) in LATERAL_COORDS.iter().enumerate() {
+            x[i] = lateral[k];
+            v[i] = lateral[LATERAL_COORDS.len() + k];
+        }
+        let omega = 2.0 * std::f64::consts::PI * speed_hz;
+        x[5] = omega * t;
+        v[5] = omega;
+        let totals = self.integ.totals;
+        let u = self.integ.inputs_last().to_vec();
+        let mut integ = GglBdf::new(sys, self.integ.tolerances(), t, x, v, u)?;
+        integ.totals = totals;
+        self.profile = SpeedProfile::of(&params);
+        self.params = params;
+        self.integ = integ;
+        Ok(())
     }
 
     /// Integrate t0 -> t0 + h; `forces(t)` gives the film forces at any time inside (the

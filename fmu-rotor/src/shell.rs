@@ -96,6 +96,17 @@ pub struct RotorFmu {
     rotor: Rotor,
 }
 
+impl RotorFmu {
+    /// The simulator inside (the master's periodic-orbit search reads and restarts it in a
+    /// deserialized FMU state).
+    pub fn rotor(&self) -> &Rotor {
+        &self.rotor
+    }
+    pub fn rotor_mut(&mut self) -> &mut Rotor {
+        &mut self.rotor
+    }
+}
+
 /// The rotor parameters from the FMU's variable values (also used by the master's linear
 /// stability analysis, which must read parameters exactly as the FMU does).
 pub fn params_from(s: &Store) -> RotorParams {

@@ -158,3 +158,52 @@ fn output_derivatives_match_finite_differences() {
     assert!((fd_x - d0.bearing_c.ddx_m_s).abs() < 0.02 * d0.bearing_c.ddx_m_s.abs().max(1e-4));
     assert!((fd_v - d0.bearing_c.dvx_m_s2).abs() < 0.02 * d0.bearing_c.dvx_m_s2.abs().max(1.0));
 }
+
+/// The periodic-orbit search's restart: the lateral state reads back what was put in, the spin
+/// follows the new constant speed from the same time, and a restart at the rotor's own state
+/// and speed continues its motion (only the BDF history is new: within the integrator's
+/// tolerance, not bit for bit).
+#[test]
+fn a_restart_at_a_lateral_state_and_constant_speed_continues_the_motion() {
+    let mut p = RotorParams::paper();
+    p.speed_table = vec![(0.0, 700.0), (1.0, 700.0)];
+    let mut a = Rotor::new(p).unwrap();
+    let h = 1e-5;
+    for k in 0..200 {
+        a.advance(k as f64 * h, h, &forces).unwrap();
+    }
+    let mut b = a.clone();
+    let s = b.lateral_state();
+    b.restart_constant_speed(&s, 700.0).unwrap();
+    assert_eq!(b.lateral_state(), s, "the state put in reads back");
+    assert_eq!(b.time_s(), a.time_s());
+    for k in 200..400 {
+        a.advance(k as f64 * h, h, &forces).unwrap();
+        b.advance(k as f64 * h, h, &forces).unwrap();
+    }
+    let (sa, sb) = (a.lateral_state(), b.lateral_state());
+    for i in 0..8 {
+        let scale = sa[i].abs().max(1e-7);
+        assert!(
+            (sa[i] - sb[i]).abs() < 1e-3 * scale,
+            "coordinate {i}: {} vs {}",
+            sa[i],
+            sb[i]
+        );
+    }
+    // A new speed: the spin rate jumps, the angle stays 2 pi f t.
+    let mut c = a.clone();
+    c.restart_constant_speed(&a.lateral_state(), 900.0).unwrap();
+    let t = c.time_s();
+    let w = 2.0 * std::f64::consts::PI * 900.0;
+    assert!((c.outputs().omega_rad_s - w).abs() < 1e-9 * w);
+    assert!((c.outputs().spin_angle_rad - w * t).abs() < 1e-9 * w * t);
+    // Non-finite states and speeds are refused, the rotor unchanged.
+    let mut bad = a.lateral_state();
+    bad[3] = f64::NAN;
+    assert!(c.restart_constant_speed(&bad, 900.0).is_err());
+    assert!(c
+        .restart_constant_speed(&a.lateral_state(), f64::NAN)
+        .is_err());
+    assert!((c.outputs().omega_rad_s - w).abs() < 1e-9 * w);
+}

@@ -8,6 +8,7 @@ pub mod export_ssp;
 pub mod fmu_params;
 pub mod modal;
 pub mod orbit;
+pub mod orbits;
 pub mod out_folder;
 pub mod output;
 pub mod plot;

@@ -136,6 +136,16 @@ enum Command {
     /// The air-film library alone along a journal orbit from a CSV file, fed as FMPy's simulate_fmu
     /// feeds airfilm.fmu (cross-check; see docs/fmu-guide.md).
     Orbit(master::orbit::OrbitArgs),
+    /// Periodic whirl orbits at constant speeds (shooting on the co-simulation), their Floquet
+    /// multipliers, and the branch continued in speed to its Hopf point (orbits.json).
+    Orbits {
+        #[command(flatten)]
+        args: master::orbits::cli::OrbitsArgs,
+        /// Folder with rotor.fmu and airfilm.fmu (default: next to the executable, then
+        /// target/fmu).
+        #[arg(long)]
+        fmu_dir: Option<PathBuf>,
+    },
     /// Write a system file as an SSP 1.0 archive (SystemStructure.ssd + the FMUs) for other tools.
     ExportSsp(master::export_ssp::ExportSspArgs),
 }
@@ -567,6 +577,8 @@ fn main() -> ExitCode {
         Command::Classify { dir, clearance } => classify_command(&dir, clearance),
         Command::Orbit(args) => master::orbit::run_cli(&args).map(|_| ExitCode::SUCCESS),
         Command::ExportSsp(args) => master::export_ssp::run_cli(&args).map(|_| ExitCode::SUCCESS),
+        Command::Orbits { args, fmu_dir: dir } => fmu_dir(dir)
+            .and_then(|d| master::orbits::cli::run_cli(&args, d).map(|_| ExitCode::SUCCESS)),
     })();
     match result {
         Ok(code) => code,

@@ -1,0 +1,59 @@
+//! `airring orbits`: flags, the printed progress and orbits.json.
+
+use super::driver::{find_orbits, OrbitsRequest};
+use std::path::PathBuf;
+
+#[derive(clap::Args, Clone, Debug)]
+pub struct OrbitsArgs {
+    /// The rotor and its bearings, as for `airring runup`.
+    #[command(flatten)]
+    pub bearing: crate::design::DesignArgs,
+    /// Constant speeds from:to:step [Hz]; each is simulated until its whirl settles and the
+    /// orbit is shot from there.
+    #[arg(long)]
+    pub speeds: String,
+    /// Constant-speed simulation before a whirl counts as settled [s].
+    #[arg(long, default_value_t = 0.5)]
+    pub settle: f64,
+    /// Only the orbits at the given speeds: no continuation of the branch.
+    #[arg(long)]
+    pub no_continuation: bool,
+    /// Output folder (orbits.json, the system file used).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+pub fn run_cli(args: &OrbitsArgs, fmu_dir: PathBuf) -> Result<(), String> {
+    let settings = args.bearing.settings()?;
+    let speeds_hz = crate::stability::parse_speeds(&args.speeds)?;
+    let req = OrbitsRequest {
+        settings,
+        speeds_hz,
+        settle_s: args.settle,
+        continuation: !args.no_continuation,
+        fmu_dir,
+        out_dir: args.out.clone(),
+    };
+    let report = find_orbits(&req, &mut |line| eprintln!("{line}"))?;
+    if let Some(t) = report.linear_threshold_hz {
+        println!("linear threshold: {t:.1} Hz");
+    }
+    if let Some(h) = report.hopf_estimate_hz {
+        println!(
+            "branch meets the equilibrium at {h:.1} Hz ({})",
+            report
+                .criticality
+                .as_deref()
+                .unwrap_or("criticality not decided")
+        );
+    }
+    println!(
+        "{} orbits, {} flows, {} macro steps, {:.1} s; written to {}",
+        report.orbits.len(),
+        report.flows,
+        report.macro_steps,
+        report.wall_time_s,
+        args.out.join("orbits.json").display()
+    );
+    Ok(())
+}

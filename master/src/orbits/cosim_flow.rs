@@ -1,0 +1,359 @@
+//! The co-simulated rotor in its two air films as a [`Flow`] at constant speed: the period map
+//! the shooting works on is the co-simulation itself, run from a chosen start state.
+//!
+//! The state is the rotor's lateral state (16 values: rotor centre x, y, tilts, ring positions,
+//! and their rates; `fmu_rotor::rotor::LATERAL_COORDS`). A flow restores a base checkpoint of
+//! the whole system (FMU states and the algorithm's coupling history), puts the start state
+//! into the rotor's FMU state (decoded, the rotor restarted there, encoded again: FMU state
+//! get/set is what makes the period map a function of the start state), restarts the input
+//! polynomials and co-simulates. The films start from the base's pressure field, so this is the
+//! reduced shooting in the mechanical coordinates with the film pressures relaxed onto them:
+//! after a converged orbit the base moves to the orbit's end ([`RotorFilmFlow::rebase`]) and
+//! the shooting repeats until the film's start field no longer moves the orbit.
+
+use super::continuation::ParamFlow;
+use super::shooting::Flow;
+use crate::runup::RunupSettings;
+use cosim::algorithm::{AlgorithmState, CoSim};
+use fmi2::model::{Model, Store};
+use fmu_rotor::rotor::LATERAL_COORDS;
+use fmu_rotor::shell::RotorFmu;
+use std::path::Path;
+
+/// Lateral state length.
+pub const N_LATERAL: usize = 2 * LATERAL_COORDS.len();
+
+pub struct RotorFilmFlow {
+    cosim: CoSim,
+    rotor: usize,
+    films: [usize; 2],
+    rotor_guid: String,
+    rotor_shape: Store,
+    base: (AlgorithmState, Vec<Vec<u8>>),
+    speed_hz: f64,
+    macro_step_s: f64,
+    clearance_m: [f64; 2],
+    scale: Vec<f64>,
+    /// Flows run, macro steps co-simulated (the cost measures).
+    pub flows: usize,
+    pub macro_steps: u64,
+}
+
+/// What the orbit through a start state does, sampled at every macro step of one period.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct OrbitMeasures {
+    /// Largest eccentricity |d| / C per bearing (C, T).
+    pub max_eps: [f64; 2],
+    /// Whirl amplitude per bearing: the largest distance of d from its mean over the orbit,
+    /// relative to C.
+    pub whirl_amplitude: [f64; 2],
+    /// Smallest film thickness per bearing [m].
+    pub h_min_m: [f64; 2],
+}
+
+impl RotorFilmFlow {
+    /// Builds the system of `settings` (FMUs from `fmu_dir`) spinning at `speed_hz` from t = 0,
+    /// without imbalance or disturbance (an autonomous system: its whirls are periodic orbits), and writes the system file used to `system_file`.
+    pub fn new(
+        settings: &RunupSettings,
+        fmu_dir: &Path,
+        speed_hz: f64,
+        system_file: &Path,
+    ) -> Result<Self, String> {
+        if !(speed_hz.is_finite() && speed_hz > 0.0) {
+            return Err(format!("speed {speed_hz} Hz: must be positive and finite"));
+        }
+        if settings.imbalance_c.0 != 0.0 || settings.imbalance_t.0 != 0.0 {
+            return Err("an imbalance forces the rotor at its spin frequency: its whirls are not periodic orbits of an autonomous system; remove --imbalance-c / --imbalance-t".into());
+        }
+        let mut s = settings.clone();
+        s.speed_profile = vec![(0.0, speed_hz), (1.0, speed_hz)];
+        s.disturbance_mn = 0.0;
+        s.stop_time_s = 1e3;
+        let text = s.system_toml(&fmu_dir.display().to_string());
+        std::fs::write(system_file, &text)
+            .map_err(|e| format!("{}: {e}", system_file.display()))?;
+        let sys = cosim::system::System::load(system_file).map_err(|e| e.to_string())?;
+        let built =
+            cosim::setup::build(&sys, crate::run::stderr_logger()).map_err(|e| e.to_string())?;
+        let cosim = built.cosim;
+        let find = |name: &str| {
+            cosim
+                .index(name)
+                .ok_or_else(|| format!("the system has no instance {name}"))
+        };
+        let rotor = find("rotor")?;
+        let films = [find("film_C")?, find("film_T")?];
+        let rotor_guid = built
+            .guids
+            .iter()
+            .find(|(n, _)| n == "rotor")
+            .map(|(_, g)| g.clone())
+            .ok_or("no GUID for the rotor")?;
+        let params = s.film_params()?;
+        let clearance_m = [params[0].bore.c_m, params[1].bore.c_m];
+        let c = clearance_m[0].min(clearance_m[1]);
+        let span_m = {
+            let p = s.rotor_params()?;
+            (p.z_jt_m - p.z_jc_m).abs().max(1e-3)
+        };
+        // Typical magnitudes: a clearance, the tilt that moves a journal by one, and both at a
+        // whirl of 500 Hz.
+        let w = 2.0 * std::f64::consts::PI * 500.0;
+        let pos = [c, c, c / span_m, c / span_m, c, c, c, c];
+        let scale = pos
+            .iter()
+            .chain(pos.iter().map(|p| p * w).collect::<Vec<_>>().iter())
+            .copied()
+            .collect();
+        let base = cosim.checkpoint().map_err(|e| e.to_string())?;
+        Ok(RotorFilmFlow {
+            cosim,
+            rotor,
+            films,
+            rotor_guid,
+            rotor_shape: Store::from_info(&RotorFmu::info()),
+            base,
+            speed_hz,
+            macro_step_s: built.macro_step_s,
+            clearance_m,
+            scale,
+            flows: 0,
+            macro_steps: 0,
+        })
+    }
+
+    /// Nominal clearance per bearing (C, T) [m].
+    pub fn clearance_m(&self) -> [f64; 2] {
+        self.clearance_m
+    }
+
+    pub fn speed_hz(&self) -> f64 {
+        self.speed_hz
+    }
+
+    pub fn time_s(&self) -> f64 {
+        self.cosim.time_s()
+    }
+
+    fn step_to(&mut self, t_target: f64) -> Result<(), String> {
+        while self.cosim.time_s() < t_target - 1e-9 * self.macro_step_s {
+            let h = (t_target - self.cosim.time_s()).min(self.macro_step_s);
+            self.cosim.step(h).map_err(|e| e.to_string())?;
+            self.macro_steps += 1;
+        }
+        Ok(())
+    }
+
+    /// Co-simulates on from the current state for `duration_s` (the whirl settles) and makes
+    /// the end the new base.
+    pub fn settle(&mut self, duration_s: f64) -> Result<(), String> {
+        let start = self.base_lateral_state()?;
+        self.start_from(&start)?;
+        let t = self.cosim.time_s() + duration_s;
+        self.step_to(t)?;
+        self.base = self.cosim.checkpoint().map_err(|e| e.to_string())?;
+        Ok(())
+    }
+
+    /// The rotor's lateral state at the base point.
+    pub fn base_lateral_state(&self) -> Result<Vec<f64>, String> {
+        self.decode_lateral(&self.base.1[self.rotor])
+    }
+
+    /// Time of the base point [s].
+    pub fn base_time_s(&self) -> f64 {
+        self.base.0.t_s
+    }
+
+    fn decode_lateral(&self, blob: &[u8]) -> Result<Vec<f64>, String> {
+        let core =
+            fmi2::snapshot::deserialize::<RotorFmu>(blob, &self.rotor_guid, &self.rotor_shape)?;
+        let m = core
+            .model
+            .as_ref()
+            .ok_or("the rotor's FMU state holds no model")?;
+        Ok(m.rotor().lateral_state().to_vec())
+    }
+
+    /// The rotor's lateral state now.
+    pub fn lateral_state(&self) -> Result<Vec<f64>, String> {
+        let (_, blobs) = self.cosim.checkpoint().map_err(|e| e.to_string())?;
+        self.decode_lateral(&blobs[self.rotor])
+    }
+
+    /// Samples `n` values of the rotor's lateral state and the films' journal displacement
+    /// over `duration_s` from now (for the period estimate of a settled whirl).
+    pub fn sample(&mut self, duration_s: f64, n: usize) -> Result<Vec<(f64, [f64; 4])>, String> {
+        let t0 = self.cosim.time_s();
+        let mut out = Vec::with_capacity(n);
+        for k in 1..=n {
+            self.step_to(t0 + duration_s * k as f64 / n as f64)?;
+            out.push((self.cosim.time_s(), self.displacements()?));
+        }
+        Ok(out)
+    }
+
+    /// Journal-minus-ring displacement (dx, dy) in both films [m].
+    fn displacements(&self) -> Result<[f64; 4], String> {
+        let mut d = [0.0; 4];
+        for (b, &f) in self.films.iter().enumerate() {
+            self.cosim
+                .get_many(
+                    f,
+                    &[fmu_airfilm::shell::vr::DX, fmu_airfilm::shell::vr::DY],
+                    &mut d[2 * b..2 * b + 2],
+                )
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(d)
+    }
+
+    /// Restores the base with the rotor at `x0` (spinning at the current speed).
+    fn start_from(&mut self, x0: &[f64]) -> Result<(), String> {
+        let lateral: [f64; N_LATERAL] = x0
+            .try_into()
+            .map_err(|_| format!("a lateral state has {N_LATERAL} values, not {}", x0.len()))?;
+        let (state, mut blobs) = self.base.clone();
+        let mut core = fmi2::snapshot::deserialize::<RotorFmu>(
+            &blobs[self.rotor],
+            &self.rotor_guid,
+            &self.rotor_shape,
+        )?;
+        let model = core
+            .model
+            .as_mut()
+            .ok_or("the rotor's FMU state holds no model")?;
+        model
+            .rotor_mut()
+            .restart_constant_speed(&lateral, self.speed_hz)
+            .map_err(|e| e.to_string())?;
+        model.write_outputs(&mut core.store);
+        blobs[self.rotor] = fmi2::snapshot::serialize(&core, &self.rotor_guid);
+        self.cosim
+            .restore_checkpoint(state, &blobs)
+            .map_err(|e| e.to_string())?;
+        self.cosim
+            .restart_coupling_histories()
+            .map_err(|e| e.to_string())?;
+        self.flows += 1;
+        Ok(())
+    }
+
+    /// Moves the base to the end of one period from `x0`: the films' pressure field there has
+    /// relaxed onto the orbit.
+    pub fn rebase(&mut self, x0: &[f64], period_s: f64) -> Result<(), String> {
+        self.start_from(x0)?;
+        let t = self.base.0.t_s + period_s;
+        self.step_to(t)?;
+        self.base = self.cosim.checkpoint().map_err(|e| e.to_string())?;
+        Ok(())
+    }
+
+    /// The measures of the orbit through `x0` over one period.
+    pub fn orbit_measures(&mut self, x0: &[f64], period_s: f64) -> Result<OrbitMeasures, String> {
+        self.start_from(x0)?;
+        let t0 = self.base.0.t_s;
+        let mut pts: Vec<[f64; 4]> = vec![];
+        let mut h_min = [f64::INFINITY; 2];
+        let mut max_eps = [0.0f64; 2];
+        loop {
+            pts.push(self.displacements()?);
+            for (b, &f) in self.films.iter().enumerate() {
+                let mut v = [0.0; 2];
+                self.cosim
+                    .get_many(
+                        f,
+                        &[fmu_airfilm::shell::vr::EPS, fmu_airfilm::shell::vr::H_MIN],
+                        &mut v,
+                    )
+                    .map_err(|e| e.to_string())?;
+                max_eps[b] = max_eps[b].max(v[0]);
+                h_min[b] = h_min[b].min(v[1]);
+            }
+            if self.cosim.time_s() >= t0 + period_s - 1e-12 {
+                break;
+            }
+            let next = (self.cosim.time_s() + self.macro_step_s).min(t0 + period_s);
+            self.step_to(next)?;
+        }
+        let mut amp = [0.0f64; 2];
+        for b in 0..2 {
+            let n = pts.len() as f64;
+            let mx = pts.iter().map(|p| p[2 * b]).sum::<f64>() / n;
+            let my = pts.iter().map(|p| p[2 * b + 1]).sum::<f64>() / n;
+            amp[b] = pts
+                .iter()
+                .map(|p| (p[2 * b] - mx).hypot(p[2 * b + 1] - my))
+                .fold(0.0, f64::max)
+                / self.clearance_m[b];
+        }
+        Ok(OrbitMeasures {
+            max_eps,
+            whirl_amplitude: amp,
+            h_min_m: h_min,
+        })
+    }
+}
+
+impl Flow for RotorFilmFlow {
+    fn dim(&self) -> usize {
+        N_LATERAL
+    }
+    fn scale(&self) -> Vec<f64> {
+        self.scale.clone()
+    }
+    /// The macro steps lie on the grid t0 + k H whatever times are asked for: a time between two
+    /// grid points is reached by one shorter step from a saved state, which is then restored.
+    /// So phi_t(x0) is one function of (x0, t), whichever other times the same call asks for
+    /// (the finite differences of the shooting compare flows of different calls).
+    fn flow(&mut self, x0: &[f64], at_s: &[f64]) -> Result<Vec<Vec<f64>>, String> {
+        self.start_from(x0)?;
+        let t0 = self.base.0.t_s;
+        let h = self.macro_step_s;
+        let mut out = Vec::with_capacity(at_s.len());
+        for &t in at_s {
+            let k = ((t / h) * (1.0 + 1e-12)).floor();
+            self.step_to(t0 + k * h)?;
+            if t - k * h <= 1e-12 * h.max(t) {
+                out.push(self.lateral_state()?);
+                continue;
+            }
+            let (state, blobs) = self.cosim.checkpoint().map_err(|e| e.to_string())?;
+            self.cosim.step(t - k * h).map_err(|e| e.to_string())?;
+            self.macro_steps += 1;
+            out.push(self.lateral_state()?);
+            self.cosim
+                .restore_checkpoint(state, &blobs)
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(out)
+    }
+    fn measures(&mut self, x0: &[f64], period_s: f64) -> Result<Vec<(String, f64)>, String> {
+        let m = self.orbit_measures(x0, period_s)?;
+        Ok(vec![
+            ("max_eps_C".into(), m.max_eps[0]),
+            ("max_eps_T".into(), m.max_eps[1]),
+            ("whirl_amplitude_C".into(), m.whirl_amplitude[0]),
+            ("whirl_amplitude_T".into(), m.whirl_amplitude[1]),
+            ("h_min_C_m".into(), m.h_min_m[0]),
+            ("h_min_T_m".into(), m.h_min_m[1]),
+        ])
+    }
+}
+
+impl ParamFlow for RotorFilmFlow {
+    fn param(&self) -> f64 {
+        self.speed_hz
+    }
+    fn set_param(&mut self, value: f64) -> Result<(), String> {
+        if !(value.is_finite() && value > 0.0) {
+            return Err(format!("speed {value} Hz: must be positive and finite"));
+        }
+        self.speed_hz = value;
+        Ok(())
+    }
+    fn param_scale(&self) -> f64 {
+        1000.0
+    }
+}

@@ -1,0 +1,422 @@
+//! `airring orbits`: the periodic whirl orbits of a rotor in its bearings at constant speeds.
+//!
+//! 1. At each requested speed the co-simulation runs at that constant speed from the centred
+//!    start (gravity's sag is the kick) for the settle time. A whirl that is still there is
+//!    either periodic (its upward crossings of the mean come at equal intervals) or not
+//!    (quasi-periodic: reported as such, not forced into an orbit).
+//! 2. From a settled periodic whirl the shooting finds the orbit (reduced shooting with the
+//!    film pressures relaxed, see `cosim_flow.rs`); its Floquet multipliers give its stability.
+//! 3. From the stable orbit at the highest such speed the branch is continued down in speed
+//!    (pseudo-arclength: it passes folds) until it meets the equilibrium at its Hopf point or
+//!    leaves the range; the linear threshold (`airring stability`) is what the Hopf point is
+//!    compared with, and the branch's smallest orbits give the Hopf bifurcation's criticality.
+
+use super::continuation::{
+    continue_branch, criticality, hopf_estimate, Branch, BranchEnd, ContinuationOptions,
+    Criticality,
+};
+use super::cosim_flow::RotorFilmFlow;
+use super::shooting::{shoot, PeriodicOrbit, ShootingOptions};
+use crate::runup::RunupSettings;
+use serde::Serialize;
+use std::path::{Path, PathBuf};
+
+#[derive(Clone, Debug)]
+pub struct OrbitsRequest {
+    pub settings: RunupSettings,
+    pub speeds_hz: Vec<f64>,
+    /// Constant-speed simulation before the whirl counts as settled [s].
+    pub settle_s: f64,
+    /// Continue the branch from the highest stable orbit (else only the orbits per speed).
+    pub continuation: bool,
+    pub fmu_dir: PathBuf,
+    pub out_dir: PathBuf,
+}
+
+/// One periodic orbit as orbits.json lists it.
+#[derive(Clone, Debug, Serialize)]
+pub struct OrbitRecord {
+    pub speed_hz: f64,
+    pub period_s: f64,
+    pub whirl_frequency_hz: f64,
+    #[serde(rename = "max_eps_C")]
+    pub max_eps_c: f64,
+    #[serde(rename = "max_eps_T")]
+    pub max_eps_t: f64,
+    /// Largest distance of the journal (relative to its ring) from its mean position, / C.
+    #[serde(rename = "whirl_amplitude_C")]
+    pub whirl_amplitude_c: f64,
+    #[serde(rename = "whirl_amplitude_T")]
+    pub whirl_amplitude_t: f64,
+    #[serde(rename = "h_min_C_um")]
+    pub h_min_c_um: f64,
+    #[serde(rename = "h_min_T_um")]
+    pub h_min_t_um: f64,
+    /// [re, im] of each multiplier, largest modulus first (the trivial 1 included).
+    pub floquet_multipliers: Vec<[f64; 2]>,
+    /// Largest modulus without the trivial multiplier.
+    pub leading_multiplier: f64,
+    pub stable: bool,
+    /// "settled" (shot from a settled constant-speed simulation) or "continuation".
+    pub branch: String,
+    pub newton_iterations: usize,
+    /// Largest scaled periodicity defect.
+    pub residual: f64,
+}
+
+/// What the constant-speed simulation at one requested speed settled into.
+#[derive(Clone, Debug, Serialize)]
+pub struct SettledRecord {
+    pub speed_hz: f64,
+    /// "equilibrium", "periodic", "quasi-periodic" or "failed".
+    pub motion: String,
+    /// Largest eccentricity per bearing over the last tenth of the settle time.
+    #[serde(rename = "max_eps_C")]
+    pub max_eps_c: f64,
+    #[serde(rename = "max_eps_T")]
+    pub max_eps_t: f64,
+    pub whirl_frequency_hz: Option<f64>,
+    /// Relative spread of the intervals between the whirl's crossings of its mean.
+    pub period_spread: Option<f64>,
+    pub message: Option<String>,
+}
+
+#[derive(Clone, Debug, Serialize)]
+pub struct OrbitsReport {
+    pub preset: String,
+    pub speeds_hz: Vec<f64>,
+    pub settle_s: f64,
+    /// The linear threshold speed (`airring stability`) [Hz], if the equilibrium turns unstable
+    /// within 10 .. 2000 Hz.
+    pub linear_threshold_hz: Option<f64>,
+    pub settled: Vec<SettledRecord>,
+    pub orbits: Vec<OrbitRecord>,
+    /// Where the continued branch meets the equilibrium [Hz].
+    pub hopf_estimate_hz: Option<f64>,
+    /// "supercritical" or "subcritical", read off the continued branch.
+    pub criticality: Option<String>,
+    /// Speeds where the branch turns (folds) [Hz].
+    pub folds_hz: Vec<f64>,
+    /// Why the continuation ended.
+    pub branch_end: Option<String>,
+    /// Flows (period-map evaluations) and macro steps co-simulated.
+    pub flows: usize,
+    pub macro_steps: u64,
+    pub wall_time_s: f64,
+}
+
+/// Intervals between upward crossings of the mean of `xs` (sampled at `ts`): the whirl period
+/// and the relative spread of the intervals.
+pub fn crossing_period(ts: &[f64], xs: &[f64]) -> Option<(f64, f64)> {
+    let mean = xs.iter().sum::<f64>() / xs.len() as f64;
+    let mut crossings = vec![];
+    for i in 1..xs.len() {
+        let (a, b) = (xs[i - 1] - mean, xs[i] - mean);
+        if a < 0.0 && b >= 0.0 {
+            crossings.push(ts[i - 1] + (ts[i] - ts[i - 1]) * (-a) / (b - a));
+        }
+    }
+    if crossings.len() < 4 {
+        return None;
+    }
+    let iv: Vec<f64> = crossings.windows(2).map(|w| w[1] - w[0]).collect();
+    let period = iv.iter().sum::<f64>() / iv.len() as f64;
+    let spread = iv.iter().map(|d| (d - period).abs()).fold(0.0, f64::max) / period;
+    Some((period, spread))
+}
+
+fn record(
+    speed_hz: f64,
+    orbit: &PeriodicOrbit,
+    measures: &[(String, f64)],
+    branch: &str,
+) -> OrbitRecord {
+    let m = |name: &str| {
+        measures
+            .iter()
+            .find(|(n, _)| n == name)
+            .map_or(f64::NAN, |(_, v)| *v)
+    };
+    OrbitRecord {
+        speed_hz,
+        period_s: orbit.period_s,
+        whirl_frequency_hz: 1.0 / orbit.period_s,
+        max_eps_c: m("max_eps_C"),
+        max_eps_t: m("max_eps_T"),
+        whirl_amplitude_c: m("whirl_amplitude_C"),
+        whirl_amplitude_t: m("whirl_amplitude_T"),
+        h_min_c_um: m("h_min_C_m") * 1e6,
+        h_min_t_um: m("h_min_T_m") * 1e6,
+        floquet_multipliers: orbit.multipliers.iter().map(|c| [c.re, c.im]).collect(),
+        leading_multiplier: orbit.leading_multiplier(),
+        stable: orbit.stable(),
+        branch: branch.into(),
+        newton_iterations: orbit.iterations,
+        residual: orbit.residual,
+    }
+}
+
+/// Shooting options for the co-simulated period map: its film and rotor step controls make it
+/// smooth only to ~1e-7 of a clearance, so the finite differences step 1e-4 of a scale and
+/// the defect is converged to 1e-6.
+pub fn cosim_shooting_options() -> ShootingOptions {
+    ShootingOptions {
+        fd_rel: 1e-4,
+        dt_rel: 1e-3,
+        tol: 1e-6,
+        max_iter: 12,
+    }
+}
+
+/// Reduced shooting: shoot, move the films' start field to the orbit's end, shoot again, until
+/// the orbit's start moves less than the tolerance (at most 4 passes).
+pub fn shoot_relaxed(
+    flow: &mut RotorFilmFlow,
+    x0: &[f64],
+    period_s: f64,
+    opts: &ShootingOptions,
+) -> Result<PeriodicOrbit, String> {
+    let scale = super::shooting::Flow::scale(flow);
+    let mut orbit = shoot(flow, x0, period_s, opts)?;
+    for _pass in 0..3 {
+        flow.rebase(&orbit.x0, orbit.period_s)?;
+        let start = flow.base_lateral_state()?;
+        let next = shoot(flow, &start, orbit.period_s, opts)?;
+        let moved = next
+            .x0
+            .iter()
+            .zip(&orbit.x0)
+            .zip(&scale)
+            .map(|((a, b), s)| ((a - b) / s).abs())
+            .fold(0.0, f64::max);
+        orbit = next;
+        if moved < 10.0 * opts.tol {
+            break;
+        }
+    }
+    Ok(orbit)
+}
+
+pub fn find_orbits(
+    req: &OrbitsRequest,
+    progress: &mut dyn FnMut(&str),
+) -> Result<OrbitsReport, String> {
+    let t0 = std::time::Instant::now();
+    check_speeds(&req.speeds_hz, &req.settings)?;
+    if !(req.settle_s.is_finite() && req.settle_s > 0.0) {
+        return Err(format!(
+            "--settle {} s: must be a positive time",
+            req.settle_s
+        ));
+    }
+    std::fs::create_dir_all(&req.out_dir).map_err(|e| format!("{}: {e}", req.out_dir.display()))?;
+    let linear = crate::stability::analyse(&req.settings, &linear_grid())
+        .ok()
+        .and_then(|r| r.threshold.map(|t| t.speed_hz));
+    let opts = cosim_shooting_options();
+    let mut report = OrbitsReport {
+        preset: req.settings.preset.clone(),
+        speeds_hz: req.speeds_hz.clone(),
+        settle_s: req.settle_s,
+        linear_threshold_hz: linear,
+        settled: vec![],
+        orbits: vec![],
+        hopf_estimate_hz: None,
+        criticality: None,
+        folds_hz: vec![],
+        branch_end: None,
+        flows: 0,
+        macro_steps: 0,
+        wall_time_s: 0.0,
+    };
+    let system_file = req.out_dir.join("system.toml");
+    let mut top: Option<(RotorFilmFlow, PeriodicOrbit)> = None;
+    for &speed in &req.speeds_hz {
+        progress(&format!("{speed:.1} Hz: settling for {} s", req.settle_s));
+        let mut flow = RotorFilmFlow::new(&req.settings, &req.fmu_dir, speed, &system_file)?;
+        let settled = settle_and_shoot(&mut flow, req.settle_s, &opts);
+        report.flows += flow.flows;
+        report.macro_steps += flow.macro_steps;
+        match settled {
+            Ok((rec, orbit)) => {
+                if let Some((orbit, measures)) = orbit {
+                    let r = record(speed, &orbit, &measures, "settled");
+                    progress(&format!(
+                        "{speed:.1} Hz: orbit T = {:.4} ms, max eps C {:.3} T {:.3}, leading multiplier {:.4} ({})",
+                        orbit.period_s * 1e3,
+                        r.max_eps_c,
+                        r.max_eps_t,
+                        r.leading_multiplier,
+                        if r.stable { "stable" } else { "unstable" }
+                    ));
+                    report.orbits.push(r);
+                    if orbit.stable() {
+                        top = Some((flow, orbit));
+                    }
+                } else {
+                    progress(&format!("{speed:.1} Hz: {}", rec.motion));
+                }
+                report.settled.push(rec);
+            }
+            Err(e) => {
+                progress(&format!("{speed:.1} Hz: {e}"));
+                report.settled.push(SettledRecord {
+                    speed_hz: speed,
+                    motion: "failed".into(),
+                    max_eps_c: f64::NAN,
+                    max_eps_t: f64::NAN,
+                    whirl_frequency_hz: None,
+                    period_spread: None,
+                    message: Some(e),
+                });
+            }
+        }
+        write_report(&req.out_dir, &report)?;
+    }
+    if let (true, Some((mut flow, orbit))) = (req.continuation, top) {
+        progress(&format!(
+            "continuing the branch down from {:.1} Hz",
+            flow.speed_hz()
+        ));
+        let (lo, hi) = (req.speeds_hz[0], req.speeds_hz[req.speeds_hz.len() - 1]);
+        let copts = ContinuationOptions {
+            ds: 0.02,
+            ds_min: 1e-3,
+            ds_max: 0.1,
+            max_points: 60,
+            param_min: lo,
+            param_max: hi,
+            min_size: 0.02,
+            max_corrector: 5,
+            shooting: opts,
+            fd_param_rel: 1e-4,
+        };
+        let flows_before = flow.flows;
+        let steps_before = flow.macro_steps;
+        let branch = continue_branch(&mut flow, &orbit, false, &copts)?;
+        report.flows += flow.flows - flows_before;
+        report.macro_steps += flow.macro_steps - steps_before;
+        add_branch(&mut report, &branch);
+        write_report(&req.out_dir, &report)?;
+    }
+    report.wall_time_s = t0.elapsed().as_secs_f64();
+    write_report(&req.out_dir, &report)?;
+    Ok(report)
+}
+
+fn add_branch(report: &mut OrbitsReport, branch: &Branch) {
+    for p in branch.points.iter().skip(1) {
+        report
+            .orbits
+            .push(record(p.param, &p.orbit, &p.measures, "continuation"));
+    }
+    report.folds_hz = branch
+        .folds
+        .iter()
+        .map(|&i| branch.points[i].param)
+        .collect();
+    report.branch_end = Some(match &branch.end {
+        BranchEnd::ReachedHopf => "reached the equilibrium (Hopf point)".into(),
+        BranchEnd::LeftRange => "left the speed range".into(),
+        BranchEnd::MaxPoints => "point limit".into(),
+        BranchEnd::Failed(e) => format!("failed: {e}"),
+    });
+    report.hopf_estimate_hz = hopf_estimate(branch);
+    if let Some(h) = report.hopf_estimate_hz {
+        report.criticality = criticality(branch, h, true).map(|c| match c {
+            Criticality::Supercritical => "supercritical".into(),
+            Criticality::Subcritical => "subcritical".into(),
+        });
+    }
+}
+
+/// The settled motion at the flow's speed, and the orbit shot from it when it is periodic.
+#[allow(clippy::type_complexity)]
+fn settle_and_shoot(
+    flow: &mut RotorFilmFlow,
+    settle_s: f64,
+    opts: &ShootingOptions,
+) -> Result<(SettledRecord, Option<(PeriodicOrbit, Vec<(String, f64)>)>), String> {
+    let speed = flow.speed_hz();
+    let window = 0.1 * settle_s;
+    flow.settle(settle_s - window)?;
+    let n = ((window / 20e-6).round() as usize).max(50);
+    let samples = flow.sample(window, n)?;
+    flow.settle(0.0)?;
+    let ts: Vec<f64> = samples.iter().map(|s| s.0).collect();
+    let clearance = flow.clearance_m();
+    let eps = |b: usize| {
+        samples
+            .iter()
+            .map(|s| s.1[2 * b].hypot(s.1[2 * b + 1]) / clearance[b])
+            .fold(0.0, f64::max)
+    };
+    let (max_eps_c, max_eps_t) = (eps(0), eps(1));
+    let xs: Vec<f64> = samples.iter().map(|s| s.1[0]).collect();
+    let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
+    let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+    let mut rec = SettledRecord {
+        speed_hz: speed,
+        motion: "equilibrium".into(),
+        max_eps_c,
+        max_eps_t,
+        whirl_frequency_hz: None,
+        period_spread: None,
+        message: None,
+    };
+    // Below a thousandth of the clearance the journal sits in its equilibrium.
+    if hi - lo < 2e-3 * clearance[0] {
+        return Ok((rec, None));
+    }
+    let Some((period, spread)) = crossing_period(&ts, &xs) else {
+        rec.motion = "not settled".into();
+        rec.message = Some(format!("fewer than 4 whirl periods in the last {window} s"));
+        return Ok((rec, None));
+    };
+    rec.whirl_frequency_hz = Some(1.0 / period);
+    rec.period_spread = Some(spread);
+    if spread > 0.05 {
+        rec.motion = "quasi-periodic".into();
+        rec.message = Some(format!(
+            "the intervals between whirl periods vary by {:.0} %: not one periodic orbit",
+            spread * 100.0
+        ));
+        return Ok((rec, None));
+    }
+    rec.motion = "periodic".into();
+    let x0 = flow.base_lateral_state()?;
+    let orbit = shoot_relaxed(flow, &x0, period, opts)?;
+    let measures = super::shooting::Flow::measures(flow, &orbit.x0, orbit.period_s)?;
+    Ok((rec, Some((orbit, measures))))
+}
+
+fn linear_grid() -> Vec<f64> {
+    (1..=200).map(|k| 10.0 * k as f64).collect()
+}
+
+/// Speeds: increasing, positive, within the run-up's range (0, f_max].
+pub fn check_speeds(speeds: &[f64], s: &RunupSettings) -> Result<(), String> {
+    if speeds.is_empty() {
+        return Err("no speeds given".into());
+    }
+    let top = if s.speed_profile.is_empty() {
+        s.f_max_hz
+    } else {
+        s.speed_profile.iter().map(|p| p.1).fold(0.0, f64::max)
+    };
+    for &f in speeds {
+        if !(f.is_finite() && f > 0.0 && f <= top) {
+            return Err(format!(
+                "speed {f} Hz is outside the run-up's range (0, {top}] Hz"
+            ));
+        }
+    }
+    Ok(())
+}
+
+fn write_report(dir: &Path, r: &OrbitsReport) -> Result<(), String> {
+    let text = serde_json::to_string_pretty(r).map_err(|e| e.to_string())?;
+    let path = dir.join("orbits.json");
+    cosim::files::write_whole(&path, text.as_bytes())
+        .map_err(|e| format!("{}: {e}", path.display()))
+}

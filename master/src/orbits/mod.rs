@@ -1,0 +1,13 @@
+//! Periodic whirl orbits: shooting, Floquet multipliers and the continuation of a branch in
+//! speed (`airring orbits`). The numerics are generic over [`shooting::Flow`]: the Hopf normal
+//! form (`normal_form.rs`, exact orbits) tests them, the co-simulated rotor uses them.
+
+pub mod cli;
+pub mod continuation;
+pub mod cosim_flow;
+pub mod driver;
+pub mod normal_form;
+pub mod shooting;
+
+#[cfg(test)]
+mod tests;
