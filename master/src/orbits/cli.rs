@@ -13,18 +13,35 @@ pub struct OrbitsArgs {
     #[arg(long)]
     pub speeds: String,
     /// Constant-speed simulation before a whirl counts as settled [s].
-    #[arg(long, default_value_t = 0.5)]
+    #[arg(long, default_value_t = 1.0)]
     pub settle: f64,
     /// Only the orbits at the given speeds: no continuation of the branch.
     #[arg(long)]
     pub no_continuation: bool,
-    /// Output folder (orbits.json, the system file used).
+    /// A run-up folder whose eccentricity envelope the bifurcation diagram shows beside the
+    /// orbits.
+    #[arg(long)]
+    pub runup: Option<PathBuf>,
+    /// Output folder (orbits.json, bifurcation.svg/.png, the system file used).
     #[arg(long)]
     pub out: PathBuf,
 }
 
 pub fn run_cli(args: &OrbitsArgs, fmu_dir: PathBuf) -> Result<(), String> {
     let settings = args.bearing.settings()?;
+    // Read before hours of shooting, so that a wrong folder is refused at once.
+    let runup = match &args.runup {
+        Some(dir) => {
+            let bores = crate::run_folder::bores_of_run(dir)?.ok_or_else(|| {
+                format!("--runup {}: no run-up's system.toml there", dir.display())
+            })?;
+            Some(crate::analysis::load_run(
+                dir,
+                [bores[0].c_m, bores[1].c_m],
+            )?)
+        }
+        None => None,
+    };
     let speeds_hz = crate::stability::parse_speeds(&args.speeds)?;
     let req = OrbitsRequest {
         settings,
@@ -35,6 +52,8 @@ pub fn run_cli(args: &OrbitsArgs, fmu_dir: PathBuf) -> Result<(), String> {
         out_dir: args.out.clone(),
     };
     let report = find_orbits(&req, &mut |line| eprintln!("{line}"))?;
+    super::figure::write_bifurcation_diagram(&report, runup.as_ref(), &args.out)
+        .map_err(|e| format!("{}: {e}", args.out.display()))?;
     if let Some(t) = report.linear_threshold_hz {
         println!("linear threshold: {t:.1} Hz");
     }

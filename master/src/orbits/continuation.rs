@@ -17,6 +17,12 @@ pub trait ParamFlow: Flow {
     fn set_param(&mut self, value: f64) -> Result<(), String>;
     /// A typical magnitude of the parameter (its unknown is scaled by it).
     fn param_scale(&self) -> f64;
+    /// Called with each orbit the branch accepts, before its multipliers and tangent are
+    /// computed: a flow whose fast variables are not unknowns (the co-simulation's film
+    /// pressures) relaxes them onto the orbit here. Nothing by default.
+    fn accepted(&mut self, _x0: &[f64], _period_s: f64) -> Result<(), String> {
+        Ok(())
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -205,12 +211,14 @@ fn tangent(jac: &DMatrix<f64>, previous: &DVector<f64>) -> Result<DVector<f64>, 
 }
 
 /// Follows the branch through `start` (an orbit at parameter `flow.param()`), first in the
-/// direction of increasing parameter when `increasing`, else decreasing.
+/// direction of increasing parameter when `increasing`, else decreasing. `on_point` sees each
+/// new point as soon as it is accepted (progress, and partial branches written as they grow).
 pub fn continue_branch(
     flow: &mut dyn ParamFlow,
     start: &PeriodicOrbit,
     increasing: bool,
     opts: &ContinuationOptions,
+    on_point: &mut dyn FnMut(&BranchPoint),
 ) -> Result<Branch, String> {
     let n = flow.dim();
     let sc = Scaling {
@@ -280,6 +288,7 @@ pub fn continue_branch(
         };
         let (x0, period, param) = unpack(&y_new, &sc);
         flow.set_param(param)?;
+        flow.accepted(&x0, period)?;
         let f0 = flow.flow(&x0, &[period * opts.shooting.dt_rel])?[0]
             .iter()
             .zip(&x0)
@@ -308,6 +317,7 @@ pub fn continue_branch(
             size,
             measures,
         });
+        on_point(points.last().expect("just pushed"));
         y = y_new;
         t = t_new;
         if size < opts.min_size {

@@ -51,6 +51,20 @@ pub struct OrbitMeasures {
     pub h_min_m: [f64; 2],
 }
 
+/// Refuses a rotor with an imbalance: it is forced at its spin frequency, so its whirls are
+/// not periodic orbits of an autonomous system.
+pub fn check_autonomous(settings: &RunupSettings) -> Result<(), String> {
+    let p = settings.rotor_params()?;
+    if p.imbalance.iter().any(|i| i.mass_kg != 0.0) {
+        return Err(format!(
+            "an imbalance ({} g and {} g) forces the rotor at its spin frequency: its whirls are then not periodic orbits; set the imbalance masses to 0",
+            p.imbalance[0].mass_kg * 1e3,
+            p.imbalance[1].mass_kg * 1e3
+        ));
+    }
+    Ok(())
+}
+
 impl RotorFilmFlow {
     /// Builds the system of `settings` (FMUs from `fmu_dir`) spinning at `speed_hz` from t = 0,
     /// without imbalance or disturbance (an autonomous system: its whirls are periodic orbits), and writes the system file used to `system_file`.
@@ -63,9 +77,7 @@ impl RotorFilmFlow {
         if !(speed_hz.is_finite() && speed_hz > 0.0) {
             return Err(format!("speed {speed_hz} Hz: must be positive and finite"));
         }
-        if settings.imbalance_c.0 != 0.0 || settings.imbalance_t.0 != 0.0 {
-            return Err("an imbalance forces the rotor at its spin frequency: its whirls are not periodic orbits of an autonomous system; remove --imbalance-c / --imbalance-t".into());
-        }
+        check_autonomous(settings)?;
         let mut s = settings.clone();
         s.speed_profile = vec![(0.0, speed_hz), (1.0, speed_hz)];
         s.disturbance_mn = 0.0;
@@ -355,5 +367,8 @@ impl ParamFlow for RotorFilmFlow {
     }
     fn param_scale(&self) -> f64 {
         1000.0
+    }
+    fn accepted(&mut self, x0: &[f64], period_s: f64) -> Result<(), String> {
+        self.rebase(x0, period_s)
     }
 }

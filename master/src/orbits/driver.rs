@@ -33,8 +33,13 @@ pub struct OrbitsRequest {
     pub out_dir: PathBuf,
 }
 
+/// Leading multipliers closer than this to the unit circle leave an orbit's stability open:
+/// path 2a's branch computed with steps of different size gave 0.964 and 1.035 for the orbit at
+/// 488 Hz.
+pub const UNDECIDED_MULTIPLIER_BAND: f64 = 0.05;
+
 /// One periodic orbit as orbits.json lists it.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct OrbitRecord {
     pub speed_hz: f64,
     pub period_s: f64,
@@ -57,6 +62,10 @@ pub struct OrbitRecord {
     /// Largest modulus without the trivial multiplier.
     pub leading_multiplier: f64,
     pub stable: bool,
+    /// False when the leading multiplier is within `UNDECIDED_MULTIPLIER_BAND` of the unit
+    /// circle: the finite-difference monodromy of the co-simulation does not decide stability
+    /// that close (docs/orbits.md).
+    pub stability_decided: bool,
     /// "settled" (shot from a settled constant-speed simulation) or "continuation".
     pub branch: String,
     pub newton_iterations: usize,
@@ -65,23 +74,23 @@ pub struct OrbitRecord {
 }
 
 /// What the constant-speed simulation at one requested speed settled into.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct SettledRecord {
     pub speed_hz: f64,
     /// "equilibrium", "periodic", "quasi-periodic" or "failed".
     pub motion: String,
-    /// Largest eccentricity per bearing over the last tenth of the settle time.
+    /// Largest eccentricity per bearing over the last tenth of the settle time (None: failed).
     #[serde(rename = "max_eps_C")]
-    pub max_eps_c: f64,
+    pub max_eps_c: Option<f64>,
     #[serde(rename = "max_eps_T")]
-    pub max_eps_t: f64,
+    pub max_eps_t: Option<f64>,
     pub whirl_frequency_hz: Option<f64>,
     /// Relative spread of the intervals between the whirl's crossings of its mean.
     pub period_spread: Option<f64>,
     pub message: Option<String>,
 }
 
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, Serialize, serde::Deserialize)]
 pub struct OrbitsReport {
     pub preset: String,
     pub speeds_hz: Vec<f64>,
@@ -150,6 +159,7 @@ fn record(
         floquet_multipliers: orbit.multipliers.iter().map(|c| [c.re, c.im]).collect(),
         leading_multiplier: orbit.leading_multiplier(),
         stable: orbit.stable(),
+        stability_decided: (orbit.leading_multiplier() - 1.0).abs() > UNDECIDED_MULTIPLIER_BAND,
         branch: branch.into(),
         newton_iterations: orbit.iterations,
         residual: orbit.residual,
@@ -203,6 +213,7 @@ pub fn find_orbits(
 ) -> Result<OrbitsReport, String> {
     let t0 = std::time::Instant::now();
     check_speeds(&req.speeds_hz, &req.settings)?;
+    super::cosim_flow::check_autonomous(&req.settings)?;
     if !(req.settle_s.is_finite() && req.settle_s > 0.0) {
         return Err(format!(
             "--settle {} s: must be a positive time",
@@ -263,8 +274,8 @@ pub fn find_orbits(
                 report.settled.push(SettledRecord {
                     speed_hz: speed,
                     motion: "failed".into(),
-                    max_eps_c: f64::NAN,
-                    max_eps_t: f64::NAN,
+                    max_eps_c: None,
+                    max_eps_t: None,
                     whirl_frequency_hz: None,
                     period_spread: None,
                     message: Some(e),
@@ -293,7 +304,32 @@ pub fn find_orbits(
         };
         let flows_before = flow.flows;
         let steps_before = flow.macro_steps;
-        let branch = continue_branch(&mut flow, &orbit, false, &copts)?;
+        let out_dir = req.out_dir.clone();
+        let mut partial = report.clone();
+        let branch = continue_branch(&mut flow, &orbit, false, &copts, &mut |p| {
+            let r = record(p.param, &p.orbit, &p.measures, "continuation");
+            progress(&format!(
+                "branch: {:.2} Hz, T = {:.4} ms, max eps C {:.3} T {:.3}, leading multiplier {:.4} ({})",
+                p.param,
+                p.orbit.period_s * 1e3,
+                r.max_eps_c,
+                r.max_eps_t,
+                r.leading_multiplier,
+                if r.stable { "stable" } else { "unstable" }
+            ));
+            // Written as it grows: a branch cut short by a failure or Ctrl-C is not lost.
+            partial.orbits.push(r);
+            let _ = write_report(&out_dir, &partial);
+        });
+        let branch = match branch {
+            Ok(b) => b,
+            Err(e) => {
+                report.orbits = partial.orbits;
+                report.branch_end = Some(format!("failed: {e}"));
+                write_report(&req.out_dir, &report)?;
+                return Err(e);
+            }
+        };
         report.flows += flow.flows - flows_before;
         report.macro_steps += flow.macro_steps - steps_before;
         add_branch(&mut report, &branch);
@@ -302,6 +338,22 @@ pub fn find_orbits(
     report.wall_time_s = t0.elapsed().as_secs_f64();
     write_report(&req.out_dir, &report)?;
     Ok(report)
+}
+
+/// The speed where the branch turns near its fold at index `i` (the tangent turned between
+/// points i and i + 1): the extreme speed of the few points around it, the lowest if the branch
+/// was running down in speed, the highest if up.
+fn fold_speed(branch: &Branch, i: usize) -> f64 {
+    let p = &branch.points;
+    let running_down = i > 0 && p[i].param < p[i - 1].param;
+    let near = p[i.saturating_sub(1)..(i + 4).min(p.len())]
+        .iter()
+        .map(|q| q.param);
+    if running_down {
+        near.fold(f64::INFINITY, f64::min)
+    } else {
+        near.fold(f64::NEG_INFINITY, f64::max)
+    }
 }
 
 fn add_branch(report: &mut OrbitsReport, branch: &Branch) {
@@ -313,7 +365,7 @@ fn add_branch(report: &mut OrbitsReport, branch: &Branch) {
     report.folds_hz = branch
         .folds
         .iter()
-        .map(|&i| branch.points[i].param)
+        .map(|&i| fold_speed(branch, i))
         .collect();
     report.branch_end = Some(match &branch.end {
         BranchEnd::ReachedHopf => "reached the equilibrium (Hopf point)".into(),
@@ -358,14 +410,31 @@ fn settle_and_shoot(
     let mut rec = SettledRecord {
         speed_hz: speed,
         motion: "equilibrium".into(),
-        max_eps_c,
-        max_eps_t,
+        max_eps_c: Some(max_eps_c),
+        max_eps_t: Some(max_eps_t),
         whirl_frequency_hz: None,
         period_spread: None,
         message: None,
     };
     // Below a thousandth of the clearance the journal sits in its equilibrium.
     if hi - lo < 2e-3 * clearance[0] {
+        return Ok((rec, None));
+    }
+    // A whirl still dying out (near the threshold the equilibrium is only weakly damped): no
+    // orbit to shoot for.
+    let half = xs.len() / 2;
+    let span = |v: &[f64]| {
+        v.iter().copied().fold(f64::NEG_INFINITY, f64::max)
+            - v.iter().copied().fold(f64::INFINITY, f64::min)
+    };
+    let decay = span(&xs[half..]) / span(&xs[..half]);
+    if decay < 0.97 {
+        rec.motion = "decaying".into();
+        rec.message = Some(format!(
+            "the whirl shrinks by {:.0} % within the last {:.3} s: the equilibrium is stable here, no orbit to find",
+            (1.0 - decay) * 100.0,
+            window / 2.0
+        ));
         return Ok((rec, None));
     }
     let Some((period, spread)) = crossing_period(&ts, &xs) else {

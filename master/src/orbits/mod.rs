@@ -6,6 +6,7 @@ pub mod cli;
 pub mod continuation;
 pub mod cosim_flow;
 pub mod driver;
+pub mod figure;
 pub mod normal_form;
 pub mod shooting;
 

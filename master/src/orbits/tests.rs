@@ -105,7 +105,7 @@ fn continuation_follows_the_supercritical_branch_into_its_hopf_point() {
         min_size: 0.05,
         ..ContinuationOptions::default()
     };
-    let branch = continue_branch(&mut nf, &start, false, &opts).unwrap();
+    let branch = continue_branch(&mut nf, &start, false, &opts, &mut |_| {}).unwrap();
     assert_eq!(branch.end, BranchEnd::ReachedHopf, "{:?}", branch.end);
     assert!(branch.points.len() >= 4, "{} points", branch.points.len());
     assert!(branch.folds.is_empty());
@@ -137,7 +137,7 @@ fn continuation_passes_the_subcritical_fold_and_returns_to_the_hopf_point() {
         min_size: 0.05,
         ..ContinuationOptions::default()
     };
-    let branch = continue_branch(&mut nf, &start, false, &opts).unwrap();
+    let branch = continue_branch(&mut nf, &start, false, &opts, &mut |_| {}).unwrap();
     assert_eq!(branch.end, BranchEnd::ReachedHopf, "{:?}", branch.end);
     assert_eq!(branch.folds.len(), 1, "folds {:?}", branch.folds);
     let fold = branch.folds[0];
@@ -170,4 +170,74 @@ fn continuation_passes_the_subcritical_fold_and_returns_to_the_hopf_point() {
         criticality(&branch, hopf, true),
         Some(Criticality::Subcritical)
     );
+}
+
+/// The bifurcation diagram draws the stable stretch solid and the unstable one dashed (one
+/// series each per bearing), a cross per settled orbit, and no text overlaps.
+#[test]
+fn bifurcation_diagram_dashes_the_unstable_orbits() {
+    use super::driver::{OrbitRecord, OrbitsReport};
+    use crate::plot::Figure;
+    let orbit = |speed_hz: f64, eps: f64, stable: bool, branch: &str| OrbitRecord {
+        speed_hz,
+        period_s: 6e-3,
+        whirl_frequency_hz: 1.0 / 6e-3,
+        max_eps_c: eps,
+        max_eps_t: 1.2 * eps,
+        whirl_amplitude_c: 0.5 * eps,
+        whirl_amplitude_t: 0.6 * eps,
+        h_min_c_um: 10.0,
+        h_min_t_um: 8.0,
+        floquet_multipliers: vec![[1.0, 0.0]],
+        leading_multiplier: if stable { 0.9 } else { 1.1 },
+        stable,
+        stability_decided: true,
+        branch: branch.into(),
+        newton_iterations: 3,
+        residual: 1e-7,
+    };
+    let report = OrbitsReport {
+        preset: "test".into(),
+        speeds_hz: vec![470.0, 520.0],
+        settle_s: 1.0,
+        linear_threshold_hz: Some(482.0),
+        settled: vec![],
+        orbits: vec![
+            orbit(520.0, 0.45, true, "settled"),
+            orbit(510.0, 0.40, true, "continuation"),
+            orbit(500.0, 0.30, true, "continuation"),
+            orbit(495.0, 0.20, false, "continuation"),
+            orbit(490.0, 0.10, false, "continuation"),
+        ],
+        hopf_estimate_hz: Some(486.0),
+        criticality: Some("subcritical".into()),
+        folds_hz: vec![],
+        branch_end: None,
+        flows: 0,
+        macro_steps: 0,
+        wall_time_s: 0.0,
+    };
+    let svg = super::figure::bifurcation_diagram(&report, None)
+        .to_svg()
+        .unwrap();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let series = |name: &str| {
+        doc.descendants()
+            .filter(|n| n.attribute("data-name") == Some(name))
+            .collect::<Vec<_>>()
+    };
+    for b in ["C", "T"] {
+        let stable = series(&format!("orbit max eps_{b} (stable)"));
+        let unstable = series(&format!("orbit max eps_{b} (unstable)"));
+        assert_eq!((stable.len(), unstable.len()), (1, 1), "bearing {b}");
+        assert!(stable[0].attribute("stroke-dasharray").is_none());
+        assert!(unstable[0].attribute("stroke-dasharray").is_some());
+        assert_eq!(
+            series(&format!("settled orbit eps_{b}")).len(),
+            2,
+            "one cross"
+        );
+    }
+    let bad = crate::plot::layout::problems(&svg);
+    assert!(bad.is_empty(), "{bad:#?}");
 }

@@ -1,0 +1,217 @@
+//! Whirl orbits (issue #14 item 3) on the co-simulated rotor in its films, end to end on the
+//! packed FMUs (`cargo xtask fmus` first): the orbit shot from a settled constant-speed
+//! simulation has that simulation's largest eccentricities, and bad requests are refused
+//! before any work with a message naming the value. (The shooting and continuation numerics are
+//! tested on the Hopf normal form in master/src/orbits/tests.rs.)
+
+use master::orbits::driver::{find_orbits, OrbitsRequest};
+use master::runup::RunupSettings;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .unwrap()
+        .to_path_buf()
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("airring-orbits-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    d
+}
+
+/// Path 2a at 520 Hz (38 Hz above its linear threshold) settles onto a moderate periodic whirl
+/// at ~148 Hz. The shot orbit is stable, its period is the settled whirl's, and its largest
+/// eccentricities match those the simulation reached in the last 0.1 s within 3 %.
+#[test]
+fn the_stable_orbit_has_the_settled_whirls_eccentricities() {
+    let dir = tmp("settled");
+    let req = OrbitsRequest {
+        settings: RunupSettings::preset("path2a").unwrap(),
+        speeds_hz: vec![520.0],
+        settle_s: 1.0,
+        continuation: false,
+        fmu_dir: root().join("target/fmu"),
+        out_dir: dir.clone(),
+    };
+    let report = find_orbits(&req, &mut |line| eprintln!("{line}")).unwrap();
+    let settled = &report.settled[0];
+    assert_eq!(settled.motion, "periodic", "{settled:?}");
+    assert_eq!(report.orbits.len(), 1, "{report:?}");
+    let o = &report.orbits[0];
+    println!("{o:?}\n{settled:?}");
+    assert!(o.stable, "{o:?}");
+    assert!(o.leading_multiplier > 0.5 && o.leading_multiplier < 1.0);
+    let f = settled.whirl_frequency_hz.unwrap();
+    assert!(
+        (o.whirl_frequency_hz - f).abs() < 0.02 * f,
+        "{} vs {f}",
+        o.whirl_frequency_hz
+    );
+    for (orbit, sim, name) in [
+        (o.max_eps_c, settled.max_eps_c.unwrap(), "C"),
+        (o.max_eps_t, settled.max_eps_t.unwrap(), "T"),
+    ] {
+        assert!(
+            (orbit - sim).abs() < 0.03 * sim,
+            "max eps {name}: orbit {orbit} vs settled {sim}"
+        );
+    }
+    // A moderate whirl: inside the clearance, with film left.
+    assert!(o.max_eps_c < 1.0 && o.max_eps_t < 1.0);
+    assert!(o.h_min_c_um > 1.0 && o.h_min_t_um > 1.0);
+    // orbits.json holds what the report says.
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("orbits.json")).unwrap()).unwrap();
+    let j = &json["orbits"][0];
+    for key in [
+        "speed_hz",
+        "period_s",
+        "max_eps_C",
+        "max_eps_T",
+        "whirl_amplitude_C",
+        "whirl_amplitude_T",
+        "h_min_C_um",
+        "h_min_T_um",
+        "floquet_multipliers",
+        "stable",
+        "branch",
+    ] {
+        assert!(!j[key].is_null(), "orbits.json lacks {key}: {j}");
+    }
+    assert_eq!(j["floquet_multipliers"].as_array().unwrap().len(), 16);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn airring(args: &[&str]) -> (bool, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_airring"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .expect("airring runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn bad_requests_are_refused_naming_the_value() {
+    let dir = tmp("bad");
+    let out = dir.to_str().unwrap();
+    let cases: [(&[&str], &str); 5] = [
+        (
+            &["--speeds", "500:2500:1000"],
+            "speed 2500 Hz is outside the run-up's range",
+        ),
+        (&["--speeds", "500:400:10"], "--speeds '500:400:10'"),
+        (&["--speeds", "500:500:1", "--settle", "0"], "--settle 0 s"),
+        (
+            &["--speeds", "500:500:1", "--set", "rotor.m_imb_C=1 g"],
+            "an imbalance (1 g and 0 g)",
+        ),
+        (
+            &["--speeds", "500:500:1", "--runup", "/nonexistent/run"],
+            "/nonexistent/run",
+        ),
+    ];
+    for (args, expected) in cases {
+        let mut all = vec!["orbits", "--preset", "path2a", "--out", out];
+        all.extend_from_slice(args);
+        let (ok, err) = airring(&all);
+        assert!(!ok, "{args:?} accepted");
+        assert!(err.contains(expected), "{args:?}: {err}");
+        assert!(
+            !dir.join("orbits.json").exists(),
+            "{args:?} wrote orbits.json"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The branch of path 2a's whirl orbits, followed down in speed from a stable orbit at 500 Hz,
+/// meets the equilibrium within 2 % of the linear threshold (`airring stability`), with the
+/// orbits above 490 Hz stable. (Coarser than the command's defaults, to stay within a few
+/// minutes: the branch ends at a quarter of the start orbit's size and the Hopf point is
+/// extrapolated from there.)
+#[test]
+fn the_branch_starts_at_the_linear_threshold() {
+    use master::orbits::continuation::{continue_branch, hopf_estimate, ContinuationOptions};
+    use master::orbits::cosim_flow::RotorFilmFlow;
+    use master::orbits::driver::{cosim_shooting_options, crossing_period, shoot_relaxed};
+    let dir = tmp("branch");
+    std::fs::create_dir_all(&dir).unwrap();
+    let settings = RunupSettings::preset("path2a").unwrap();
+    let linear = master::stability::analyse(&settings, &[400.0, 450.0, 500.0, 550.0])
+        .unwrap()
+        .threshold
+        .unwrap()
+        .speed_hz;
+    let mut flow = RotorFilmFlow::new(
+        &settings,
+        &root().join("target/fmu"),
+        500.0,
+        &dir.join("system.toml"),
+    )
+    .unwrap();
+    flow.settle(0.9).unwrap();
+    let samples = flow.sample(0.1, 5000).unwrap();
+    flow.settle(0.0).unwrap();
+    let ts: Vec<f64> = samples.iter().map(|s| s.0).collect();
+    let xs: Vec<f64> = samples.iter().map(|s| s.1[0]).collect();
+    let (period, _) = crossing_period(&ts, &xs).unwrap();
+    let opts = cosim_shooting_options();
+    let x0 = flow.base_lateral_state().unwrap();
+    let start = shoot_relaxed(&mut flow, &x0, period, &opts).unwrap();
+    assert!(start.stable(), "{:?}", start.multipliers);
+    let scale = master::orbits::shooting::Flow::scale(&flow);
+    let size0 =
+        master::orbits::continuation::orbit_size(&mut flow, &start.x0, start.period_s, &scale)
+            .unwrap();
+    let copts = ContinuationOptions {
+        ds: 0.05,
+        ds_min: 1e-3,
+        ds_max: 0.2,
+        max_points: 30,
+        param_min: 400.0,
+        param_max: 600.0,
+        min_size: 0.25 * size0,
+        max_corrector: 5,
+        shooting: opts,
+        fd_param_rel: 1e-4,
+    };
+    let branch = continue_branch(&mut flow, &start, false, &copts, &mut |p| {
+        eprintln!(
+            "{:.2} Hz: size {:.4} leading multiplier {:.4}",
+            p.param,
+            p.size,
+            p.orbit.leading_multiplier()
+        )
+    })
+    .unwrap();
+    let hopf = hopf_estimate(&branch).unwrap_or_else(|| panic!("{:?}", branch.end));
+    println!(
+        "Hopf point {hopf:.2} Hz, linear threshold {linear:.2} Hz, {} points, {} flows",
+        branch.points.len(),
+        flow.flows
+    );
+    assert!(
+        (hopf - linear).abs() < 0.02 * linear,
+        "branch from {hopf} Hz, linear threshold {linear} Hz"
+    );
+    // Sizes shrink towards the Hopf point and every orbit above 490 Hz is stable.
+    for p in &branch.points {
+        if p.param > 490.0 {
+            assert!(
+                p.orbit.stable(),
+                "{} Hz: {:?}",
+                p.param,
+                p.orbit.multipliers
+            );
+        }
+    }
+    assert!(branch.points.last().unwrap().size < 0.3 * size0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
