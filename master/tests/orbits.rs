@@ -6,28 +6,16 @@
 
 use master::orbits::driver::{find_orbits, OrbitsRequest};
 use master::runup::RunupSettings;
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("airring-orbits-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
+use common::{airring, root};
 
 /// Path 2a at 520 Hz (38 Hz above its linear threshold) settles onto a moderate periodic whirl
 /// at ~148 Hz. The shot orbit is stable, its period is the settled whirl's, and its largest
 /// eccentricities match those the simulation reached in the last 0.1 s within 3 %.
 #[test]
 fn the_stable_orbit_has_the_settled_whirls_eccentricities() {
-    let dir = tmp("settled");
+    let dir = common::tmp("orbits", "settled");
     let req = OrbitsRequest {
         settings: RunupSettings::preset("path2a").unwrap(),
         speeds_hz: vec![520.0],
@@ -85,21 +73,9 @@ fn the_stable_orbit_has_the_settled_whirls_eccentricities() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-fn airring(args: &[&str]) -> (bool, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_airring"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("airring runs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
 #[test]
 fn bad_requests_are_refused_naming_the_value() {
-    let dir = tmp("bad");
+    let dir = common::tmp("orbits", "bad");
     let out = dir.to_str().unwrap();
     let cases: [(&[&str], &str); 5] = [
         (
@@ -141,7 +117,7 @@ fn the_branch_starts_at_the_linear_threshold() {
     use master::orbits::continuation::{continue_branch, hopf_estimate, ContinuationOptions};
     use master::orbits::cosim_flow::RotorFilmFlow;
     use master::orbits::driver::{cosim_shooting_options, crossing_period, shoot_relaxed};
-    let dir = tmp("branch");
+    let dir = common::tmp("orbits", "branch");
     std::fs::create_dir_all(&dir).unwrap();
     let settings = RunupSettings::preset("path2a").unwrap();
     let linear = master::stability::analyse(&settings, &[400.0, 450.0, 500.0, 550.0])

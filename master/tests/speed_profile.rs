@@ -3,40 +3,16 @@
 //! run-down gives the hysteresis figure and the whirl's start and stop speeds. End to end on the
 //! packed FMUs (`cargo xtask fmus` first).
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("airring-profile-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    d
-}
-
-fn airring(args: &[&str]) -> (bool, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_airring"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("airring runs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use common::airring;
 
 /// The rotor's omega follows the table exactly (it is a rheonomic constraint, not a controller):
 /// up at 250 kHz/s, down, then constant at the last point; the run stops at the profile's end
 /// unless --stop says otherwise.
 #[test]
 fn the_rotor_speed_follows_the_table() {
-    let dir = tmp("follows");
+    let dir = common::tmp("profile", "follows");
     let out = dir.to_str().unwrap();
     let (ok, err) = airring(&[
         "runup",
@@ -111,7 +87,7 @@ fn the_rotor_speed_follows_the_table() {
 
 #[test]
 fn bad_profiles_are_refused_with_a_message_and_nothing_written() {
-    let dir = tmp("bad");
+    let dir = common::tmp("profile", "bad");
     let out = dir.to_str().unwrap();
     for (profile, extra, why) in [
         ("0:0,1.5", &[][..], "TIME_S:SPEED_HZ"),

@@ -2,33 +2,16 @@
 //! (2 x 2 run-ups of 10 ms): table and maps written, a second invocation runs nothing, and shards
 //! 1/2 + 2/2 merged give the unsharded table. The maps' content is checked on fake run folders.
 
+mod common;
+
+use common::{airring, root};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .parent()
-        .unwrap()
-        .to_path_buf()
-}
-
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("airring-sweep-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
+    let d = common::tmp("sweep", name);
     std::fs::create_dir_all(&d).unwrap();
     d
-}
-
-fn airring(args: &[&str]) -> (bool, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_airring"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .expect("airring runs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
 }
 
 /// The table without the wall-time column (the only one that differs between repeated runs).
