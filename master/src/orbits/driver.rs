@@ -249,7 +249,15 @@ pub fn find_orbits(
         report.flows += flow.flows;
         report.macro_steps += flow.macro_steps;
         match settled {
-            Ok((rec, orbit)) => {
+            Ok((mut rec, orbit)) => {
+                if let (Some(t), "equilibrium" | "decaying") = (linear, rec.motion.as_str()) {
+                    if speed < t {
+                        rec.message = Some(format!(
+                            "{speed} Hz is below the linear threshold {t:.1} Hz: the equilibrium is stable, no whirl to find{}",
+                            rec.message.as_ref().map_or(String::new(), |m| format!(" ({m})"))
+                        ));
+                    }
+                }
                 if let Some((orbit, measures)) = orbit {
                     let r = record(speed, &orbit, &measures, "settled");
                     progress(&format!(
@@ -265,7 +273,13 @@ pub fn find_orbits(
                         top = Some((flow, orbit));
                     }
                 } else {
-                    progress(&format!("{speed:.1} Hz: {}", rec.motion));
+                    progress(&format!(
+                        "{speed:.1} Hz: {}{}",
+                        rec.motion,
+                        rec.message
+                            .as_ref()
+                            .map_or(String::new(), |m| format!(": {m}"))
+                    ));
                 }
                 report.settled.push(rec);
             }

@@ -241,3 +241,26 @@ fn bifurcation_diagram_dashes_the_unstable_orbits() {
     let bad = crate::plot::layout::problems(&svg);
     assert!(bad.is_empty(), "{bad:#?}");
 }
+
+/// The settled whirl's period from its crossings of the mean: exact for one frequency, and a
+/// second frequency (a quasi-periodic whirl) spreads the intervals beyond the 5 % the command
+/// accepts as periodic.
+#[test]
+fn crossing_period_tells_a_periodic_from_a_quasi_periodic_whirl() {
+    use super::driver::crossing_period;
+    let ts: Vec<f64> = (0..20_000).map(|k| k as f64 * 20e-6).collect();
+    let f = 148.0;
+    let w = 2.0 * std::f64::consts::PI;
+    let periodic: Vec<f64> = ts.iter().map(|t| 3e-6 + 1e-5 * (w * f * t).sin()).collect();
+    let (period, spread) = crossing_period(&ts, &periodic).unwrap();
+    assert!((period * f - 1.0).abs() < 1e-4, "period {period}");
+    assert!(spread < 0.01, "spread {spread}");
+    let quasi: Vec<f64> = ts
+        .iter()
+        .map(|t| 1e-5 * (w * f * t).sin() + 0.6e-5 * (w * 0.37 * f * t).sin())
+        .collect();
+    let (_, spread) = crossing_period(&ts, &quasi).unwrap();
+    assert!(spread > 0.05, "spread {spread}");
+    let flat = vec![1.0; 100];
+    assert!(crossing_period(&ts[..100], &flat).is_none());
+}
