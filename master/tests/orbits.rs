@@ -134,10 +134,10 @@ fn the_branch_starts_at_the_linear_threshold() {
     .unwrap();
     flow.settle(0.9).unwrap();
     let samples = flow.sample(0.1, 5000).unwrap();
-    flow.settle(0.0).unwrap();
     let ts: Vec<f64> = samples.iter().map(|s| s.0).collect();
     let xs: Vec<f64> = samples.iter().map(|s| s.1[0]).collect();
     let (period, _) = crossing_period(&ts, &xs).unwrap();
+    flow.move_base_to_quietest(period).unwrap();
     let opts = cosim_shooting_options();
     let x0 = flow.base_lateral_state().unwrap();
     let start = shoot_relaxed(&mut flow, &x0, period, &opts).unwrap();

@@ -39,6 +39,9 @@ pub struct ShootingOptions {
     pub tol: f64,
     /// Newton iterations at most.
     pub max_iter: usize,
+    /// A defect below this is accepted when no Newton step lowers it any more: the flow's own
+    /// noise (adaptive steps inside the FMUs) is reached. Equal to `tol` for exact flows.
+    pub noise_floor: f64,
 }
 
 impl Default for ShootingOptions {
@@ -48,6 +51,7 @@ impl Default for ShootingOptions {
             dt_rel: 1e-6,
             tol: 1e-8,
             max_iter: 20,
+            noise_floor: 1e-8,
         }
     }
 }
@@ -275,7 +279,9 @@ pub fn shoot(
                 .collect();
             let trial_period = period + lambda * step[n] * t_ref;
             if trial_period > 0.0 {
-                let (_, m) = defect(flow, &trial, trial_period, &scale)?;
+                // A flow that fails from the trial point (an FMU refusing the state: a journal
+                // pushed into its ring) counts as a step too far.
+                let m = defect(flow, &trial, trial_period, &scale).map_or(f64::INFINITY, |d| d.1);
                 if m.is_finite() && m < residual {
                     x0 = trial;
                     period = trial_period;
@@ -283,6 +289,20 @@ pub fn shoot(
                 }
             }
             lambda *= 0.5;
+            if lambda < 1.0 / 16.0 && residual < opts.noise_floor && phase.abs() < opts.noise_floor
+            {
+                // No step lowers the defect any more, and it is below the map's noise floor:
+                // this is as periodic as the flow can tell.
+                let multipliers = multipliers_of(&lin.monodromy);
+                return Ok(PeriodicOrbit {
+                    x0,
+                    period_s: period,
+                    monodromy: lin.monodromy,
+                    multipliers,
+                    iterations: iter,
+                    residual,
+                });
+            }
             if lambda < 1.0 / 16.0 {
                 return Err(format!(
                     "shooting stalled at iteration {iter}: no step along Newton's direction lowers the periodicity defect {residual:.3e}"

@@ -264,3 +264,58 @@ fn crossing_period_tells_a_periodic_from_a_quasi_periodic_whirl() {
     let flat = vec![1.0; 100];
     assert!(crossing_period(&ts[..100], &flat).is_none());
 }
+
+/// A flow with noise (as the FMUs' adaptive steps give the co-simulated one): Newton stalls at
+/// the noise; the defect reached is accepted only below `noise_floor`, else the stall is an
+/// error naming the defect.
+#[test]
+fn shooting_stops_at_a_noisy_flows_noise_floor_only_when_allowed() {
+    use super::shooting::Flow;
+    struct Noisy(HopfNormalForm);
+    impl Flow for Noisy {
+        fn dim(&self) -> usize {
+            3
+        }
+        fn scale(&self) -> Vec<f64> {
+            vec![1.0; 3]
+        }
+        fn flow(&mut self, x0: &[f64], at_s: &[f64]) -> Result<Vec<Vec<f64>>, String> {
+            // Deterministic noise of 1e-6 from the start state's bits.
+            let h = x0.iter().fold(0u64, |h, v| {
+                h.rotate_left(7) ^ v.to_bits().wrapping_mul(0x9e37_79b9_7f4a_7c15)
+            });
+            let noise = ((h >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 2e-6;
+            let mut out = self.0.flow(x0, at_s)?;
+            for p in &mut out {
+                for v in p.iter_mut() {
+                    *v += noise;
+                }
+            }
+            Ok(out)
+        }
+    }
+    let strict = ShootingOptions {
+        fd_rel: 1e-3,
+        tol: 1e-9,
+        noise_floor: 1e-9,
+        ..ShootingOptions::default()
+    };
+    let mut flow = Noisy(HopfNormalForm::supercritical(0.25));
+    let e = shoot(&mut flow, &[0.45, 0.1, 0.05], 0.95, &strict).unwrap_err();
+    assert!(
+        e.contains("stalled") || e.contains("did not converge"),
+        "{e}"
+    );
+    let floor = ShootingOptions {
+        noise_floor: 1e-4,
+        ..strict
+    };
+    let orbit = shoot(&mut flow, &[0.45, 0.1, 0.05], 0.95, &floor).unwrap();
+    assert!(
+        orbit.residual < 1e-4 && orbit.residual > 1e-9,
+        "{}",
+        orbit.residual
+    );
+    let r = orbit.x0[0].hypot(orbit.x0[1]);
+    assert!((r - 0.5).abs() < 1e-3, "radius {r}");
+}
