@@ -470,9 +470,18 @@ fn settle_and_shoot(
     rec.motion = "periodic".into();
     flow.move_base_to_quietest(period)?;
     let x0 = flow.base_lateral_state()?;
-    let orbit = shoot_relaxed(flow, &x0, period, opts)?;
-    let measures = super::shooting::Flow::measures(flow, &orbit.x0, orbit.period_s)?;
-    Ok((rec, Some((orbit, measures))))
+    // A shooting that fails keeps what the simulation showed, with the reason.
+    let shot = shoot_relaxed(flow, &x0, period, opts).and_then(|orbit| {
+        let measures = super::shooting::Flow::measures(flow, &orbit.x0, orbit.period_s)?;
+        Ok((orbit, measures))
+    });
+    match shot {
+        Ok(found) => Ok((rec, Some(found))),
+        Err(e) => {
+            rec.message = Some(format!("no orbit found: {e}"));
+            Ok((rec, None))
+        }
+    }
 }
 
 fn linear_grid() -> Vec<f64> {
