@@ -342,6 +342,18 @@ impl Rotor {
                 "lateral state must be finite: {lateral:?}"
             )));
         }
+        if self
+            .integ
+            .sys
+            .forces
+            .iter()
+            .any(|f| matches!(f, ForceElement::Film { .. }))
+        {
+            // The system is rebuilt from the parameters, which do not hold linear films.
+            return Err(RotorError::InvalidInput(
+                "a rotor with linear film springs cannot be restarted".into(),
+            ));
+        }
         let mut params = self.params.clone();
         let t = self.integ.t();
         params.speed_table = vec![(0.0, speed_hz), (t.max(0.0) + 1.0, speed_hz)];

@@ -206,4 +206,13 @@ fn a_restart_at_a_lateral_state_and_constant_speed_continues_the_motion() {
         .restart_constant_speed(&a.lateral_state(), f64::NAN)
         .is_err());
     assert!((c.outputs().omega_rad_s - w).abs() < 1e-9 * w);
+    // A rotor with linear films (tests, static sag) is not rebuilt without them.
+    let mut lin = Rotor::with_linear_films(
+        RotorParams::paper(),
+        [FilmCoefficients::isotropic(1e6, 10.0); 2],
+    )
+    .unwrap();
+    let s = lin.lateral_state();
+    let e = lin.restart_constant_speed(&s, 500.0).unwrap_err();
+    assert!(e.to_string().contains("linear film"), "{e}");
 }
