@@ -22,7 +22,7 @@ pub struct OrbitsArgs {
     /// orbits.
     #[arg(long)]
     pub runup: Option<PathBuf>,
-    /// Output folder (orbits.json, bifurcation.svg/.png, the system file used).
+    /// Output folder (orbits.json, bifurcation.svg/.png, the system file of each speed).
     #[arg(long)]
     pub out: PathBuf,
 }

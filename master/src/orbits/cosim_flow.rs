@@ -67,7 +67,8 @@ pub fn check_autonomous(settings: &RunupSettings) -> Result<(), String> {
 
 impl RotorFilmFlow {
     /// Builds the system of `settings` (FMUs from `fmu_dir`) spinning at `speed_hz` from t = 0,
-    /// without imbalance or disturbance (an autonomous system: its whirls are periodic orbits), and writes the system file used to `system_file`.
+    /// without imbalance or disturbance (an autonomous system: its whirls are periodic
+    /// orbits), and writes the system file used to `system_file`.
     pub fn new(
         settings: &RunupSettings,
         fmu_dir: &Path,

@@ -242,10 +242,10 @@ pub fn find_orbits(
         macro_steps: 0,
         wall_time_s: 0.0,
     };
-    let system_file = req.out_dir.join("system.toml");
     let mut top: Option<(RotorFilmFlow, PeriodicOrbit)> = None;
     for &speed in &req.speeds_hz {
         progress(&format!("{speed:.1} Hz: settling for {} s", req.settle_s));
+        let system_file = req.out_dir.join(format!("system-{speed}Hz.toml"));
         let mut flow = RotorFilmFlow::new(&req.settings, &req.fmu_dir, speed, &system_file)?;
         let settled = settle_and_shoot(&mut flow, req.settle_s, &opts);
         report.flows += flow.flows;
