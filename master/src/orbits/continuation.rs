@@ -6,9 +6,7 @@
 //! condition of [`super::shooting`] plus the arclength condition t . (y - y_pred) = 0 along the
 //! branch's unit tangent t.
 
-use super::shooting::{
-    linearize, multipliers_of, Flow, PeriodicOrbit, PhasePlane, ShootingOptions,
-};
+use super::shooting::{linearize, Flow, PeriodicOrbit, PhasePlane, ShootingOptions};
 use nalgebra::{DMatrix, DVector};
 
 /// A flow with one parameter (the rotor speed).
@@ -303,17 +301,9 @@ pub fn continue_branch(
         let residual = (0..n).map(|i| ext.residual[i].abs()).fold(0.0, f64::max);
         let size = orbit_size(flow, &x0, period, &sc.state)?;
         let measures = flow.measures(&x0, period)?;
-        let multipliers = multipliers_of(&ext.monodromy);
         points.push(BranchPoint {
             param,
-            orbit: PeriodicOrbit {
-                x0,
-                period_s: period,
-                monodromy: ext.monodromy.clone(),
-                multipliers,
-                iterations,
-                residual,
-            },
+            orbit: PeriodicOrbit::new(x0, period, ext.monodromy.clone(), iterations, residual),
             size,
             measures,
         });

@@ -73,6 +73,25 @@ pub struct PeriodicOrbit {
 }
 
 impl PeriodicOrbit {
+    /// The orbit with its multipliers (the monodromy matrix's eigenvalues).
+    pub fn new(
+        x0: Vec<f64>,
+        period_s: f64,
+        monodromy: DMatrix<f64>,
+        iterations: usize,
+        residual: f64,
+    ) -> Self {
+        let multipliers = multipliers_of(&monodromy);
+        PeriodicOrbit {
+            x0,
+            period_s,
+            monodromy,
+            multipliers,
+            iterations,
+            residual,
+        }
+    }
+
     /// The multipliers without the trivial one (the one nearest to 1 + 0i).
     pub fn nontrivial_multipliers(&self) -> Vec<Complex<f64>> {
         let one = Complex::new(1.0, 0.0);
@@ -240,15 +259,13 @@ pub fn shoot(
         }
         let phase = plane.defect(&x0, &scale);
         if residual < opts.tol && phase.abs() < opts.tol {
-            let multipliers = multipliers_of(&lin.monodromy);
-            return Ok(PeriodicOrbit {
+            return Ok(PeriodicOrbit::new(
                 x0,
-                period_s: period,
-                monodromy: lin.monodromy,
-                multipliers,
-                iterations: iter,
+                period,
+                lin.monodromy,
+                iter,
                 residual,
-            });
+            ));
         }
         // Scaled Newton system in (u = x0 / s, tau = T / t_ref):
         //   [ S^-1 (M - I) S   S^-1 f_end t_ref ] [du  ]   [ -S^-1 r ]
@@ -293,15 +310,13 @@ pub fn shoot(
             {
                 // No step lowers the defect any more, and it is below the map's noise floor:
                 // this is as periodic as the flow can tell.
-                let multipliers = multipliers_of(&lin.monodromy);
-                return Ok(PeriodicOrbit {
+                return Ok(PeriodicOrbit::new(
                     x0,
-                    period_s: period,
-                    monodromy: lin.monodromy,
-                    multipliers,
-                    iterations: iter,
+                    period,
+                    lin.monodromy,
+                    iter,
                     residual,
-                });
+                ));
             }
             if lambda < 1.0 / 16.0 {
                 return Err(format!(
