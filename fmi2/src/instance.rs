@@ -5,7 +5,10 @@
 //! as it was (as the Reference FMUs do); a model failure in a step moves it to `Phase::Error`.
 
 use crate::logging::Logger;
-use crate::model::{Inputs, Log, Model, StepOutcome, Store, MAX_INPUT_DERIVATIVE_ORDER};
+use crate::model::{
+    AskedInputs, Inputs, IntermediateInputs, Log, Model, StepInputs, StepOutcome, Store,
+    MAX_INPUT_DERIVATIVE_ORDER,
+};
 use crate::types::{Fmi2CallbackFunctions, Status};
 use crate::variables::{Causality, ModelInfo, VarIndex, VarType, Variable};
 use std::path::PathBuf;
@@ -623,6 +626,17 @@ impl<M: Model> Instance<M> {
     }
 
     pub fn do_step(&mut self, t: f64, h: f64) -> Res {
+        self.do_step_with(t, h, None)
+    }
+
+    /// A step whose inputs come from `intermediate` at the model's internal times (FMI 3.0
+    /// intermediate update) instead of the polynomial set before the step.
+    pub fn do_step_with(
+        &mut self,
+        t: f64,
+        h: f64,
+        intermediate: Option<&dyn IntermediateInputs>,
+    ) -> Res {
         self.require(&[Phase::StepComplete])?;
         if !(h.is_finite() && h > 0.0) {
             return err(format!("communicationStepSize {h} must be finite and > 0"));
@@ -654,7 +668,18 @@ impl<M: Model> Instance<M> {
             .as_mut()
             .expect("a model exists after initialization");
         let mut log = ModelLog(&self.logger);
-        let outcome = model.do_step(t, h, &self.inputs, &mut log);
+        let asked;
+        let inputs: &dyn StepInputs = match intermediate {
+            None => &self.inputs,
+            Some(master) => {
+                asked = AskedInputs {
+                    held: &self.inputs,
+                    master,
+                };
+                &asked
+            }
+        };
+        let outcome = model.do_step(t, h, inputs, &mut log);
         self.core
             .input_derivatives
             .iter_mut()

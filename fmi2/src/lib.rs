@@ -24,7 +24,10 @@ pub mod xml;
 #[cfg(feature = "importer")]
 pub mod importer;
 
-pub use model::{Inputs, Log, Model, StepOutcome, Store, MAX_INPUT_DERIVATIVE_ORDER};
+pub use model::{
+    taylor_at, Inputs, IntermediateInputs, Log, Model, StepInputs, StepOutcome, Store,
+    MAX_INPUT_DERIVATIVE_ORDER,
+};
 pub use types::Status;
 pub use variables::{
     Causality, DefaultExperiment, Initial, ModelInfo, VarType, Variability, Variable,

@@ -55,14 +55,66 @@ pub struct Inputs {
     pub derivatives: Vec<[f64; MAX_INPUT_DERIVATIVE_ORDER]>,
 }
 
+/// Value at `t0 + dt` of the Taylor polynomial with value `u0` and derivatives `d` at `t0`.
+///
+/// The one place this sum is written: an FMI 3.0 master that answers intermediate updates with it
+/// (`fmi3::importer`) gives a model bit for bit the inputs an FMI 2.0 master gives through
+/// fmi2SetRealInputDerivatives.
+#[inline]
+pub fn taylor_at(u0: f64, d: &[f64; MAX_INPUT_DERIVATIVE_ORDER], dt: f64) -> f64 {
+    // Horner form of u0 + d1 dt + d2 dt^2/2 + d3 dt^3/6.
+    u0 + dt * (d[0] + dt * (d[1] / 2.0 + dt * d[2] / 6.0))
+}
+
+/// Where a model reads its Real inputs inside a communication step.
+///
+/// FMI 2.0 gives a Taylor polynomial per input at the step's start ([`Inputs`]); an FMI 3.0 instance
+/// with intermediate update asks the master for the values at the model's internal times.
+pub trait StepInputs {
+    /// Value of Real input `vr` at time `t` in [t0, t0 + h].
+    fn real_at(&self, vr: u32, t: f64) -> f64;
+
+    /// The input's Taylor polynomial over the whole step, (value, derivatives) at the step's start,
+    /// when the inputs come as one (FMI 2.0, or FMI 3.0 holding them); `None` when they come at
+    /// internal times (FMI 3.0 intermediate update). For models that integrate inputs exactly.
+    fn polynomial(&self, _vr: u32) -> Option<(f64, [f64; MAX_INPUT_DERIVATIVE_ORDER])> {
+        None
+    }
+}
+
+/// Inputs a master gives at the model's internal times, inside a step (FMI 3.0 intermediate
+/// update). `held` are the values the master set before the step.
+pub trait IntermediateInputs {
+    fn real_at(&self, held: &Inputs, vr: u32, t: f64) -> f64;
+}
+
+/// A step's inputs when a master answers at internal times: no polynomial over the step.
+pub(crate) struct AskedInputs<'a> {
+    pub held: &'a Inputs,
+    pub master: &'a dyn IntermediateInputs,
+}
+
+impl StepInputs for AskedInputs<'_> {
+    fn real_at(&self, vr: u32, t: f64) -> f64 {
+        self.master.real_at(self.held, vr, t)
+    }
+}
+
+impl StepInputs for Inputs {
+    fn real_at(&self, vr: u32, t: f64) -> f64 {
+        Inputs::real_at(self, vr, t)
+    }
+
+    fn polynomial(&self, vr: u32) -> Option<(f64, [f64; MAX_INPUT_DERIVATIVE_ORDER])> {
+        Some((self.values[vr as usize], self.derivatives[vr as usize]))
+    }
+}
+
 impl Inputs {
     /// Value of Real input `vr` at time `t` from the Taylor polynomial about `t0`.
     pub fn real_at(&self, vr: u32, t: f64) -> f64 {
         let vr = vr as usize;
-        let dt = t - self.t0;
-        let d = &self.derivatives[vr];
-        // Horner form of u0 + d1 dt + d2 dt^2/2 + d3 dt^3/6.
-        self.values[vr] + dt * (d[0] + dt * (d[1] / 2.0 + dt * d[2] / 6.0))
+        taylor_at(self.values[vr], &self.derivatives[vr], t - self.t0)
     }
     /// First time derivative of Real input `vr` at time `t`.
     pub fn real_rate_at(&self, vr: u32, t: f64) -> f64 {
@@ -109,7 +161,13 @@ pub trait Model: Clone + Send + Sized + 'static {
 
     /// Advances from `t` to `t + h` with inputs following `inputs`. Never panics on bad data:
     /// returns `Discard` or `Error` with a reason.
-    fn do_step(&mut self, t: f64, h: f64, inputs: &Inputs, log: &mut dyn Log) -> StepOutcome;
+    fn do_step(
+        &mut self,
+        t: f64,
+        h: f64,
+        inputs: &dyn StepInputs,
+        log: &mut dyn Log,
+    ) -> StepOutcome;
 
     /// Writes all outputs (and other calculated variables) into `store`.
     fn write_outputs(&self, store: &mut Store);

@@ -47,12 +47,11 @@ macro_rules! export_fmu {
                 event_mode_used: fmi3Boolean,
                 // Accepted and unused: this FMU never returns early.
                 _early_return_allowed: fmi3Boolean,
-                _required_intermediate_variables: *const fmi3ValueReference,
+                required_intermediate_variables: *const fmi3ValueReference,
                 n_required_intermediate_variables: usize,
                 instance_environment: fmi3InstanceEnvironment,
                 log_message: fmi3LogMessageCallback,
-                // Never called: providesIntermediateUpdate="false".
-                _intermediate_update: fmi3IntermediateUpdateCallback,
+                intermediate_update: fmi3IntermediateUpdateCallback,
             ) -> fmi3Instance {
                 // SAFETY: FMI contract: NUL-terminated strings or null; a valid callback or null.
                 unsafe {
@@ -62,9 +61,11 @@ macro_rules! export_fmu {
                         resource_path,
                         logging_on,
                         event_mode_used,
+                        required_intermediate_variables,
                         n_required_intermediate_variables,
                         instance_environment,
                         log_message,
+                        intermediate_update,
                     )
                 }
             }

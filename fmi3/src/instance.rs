@@ -5,10 +5,12 @@
 
 use crate::logging::Sink;
 use crate::state::{self, Mask};
+use crate::types::{fmi3InstanceEnvironment, fmi3IntermediateUpdateCallback};
 use crate::value_refs::{self, Target, TIME_VR};
 use fmi2::instance::Phase;
 use fmi2::variables::VarType;
 use fmi2::{Model, Status};
+use std::cell::{Cell, RefCell, UnsafeCell};
 
 /// Marks a live instance; checked on every call so a null or foreign pointer is refused.
 pub(crate) const INSTANCE_MAGIC: u64 = 0x4149_5252_494e_4733; // "AIRRING3"
@@ -19,8 +21,39 @@ pub fn err<T>(msg: impl Into<String>) -> Result<T, (Status, String)> {
     Err((Status::Error, msg.into()))
 }
 
-pub struct Instance<M: Model> {
+/// What an `fmi3Instance` points to: the instance, and beside it what a call may touch while the
+/// instance's model is inside fmi3DoStep (the master's answers to intermediateUpdate re-enter the
+/// FMU then; they must not reach the stepping instance, see `intermediate`).
+pub struct Shell<M: Model> {
     pub(crate) magic: u64,
+    /// fmi3DoStep is running the model.
+    pub(crate) stepping: Cell<bool>,
+    pub(crate) intermediate_update: fmi3IntermediateUpdateCallback,
+    pub(crate) environment: fmi3InstanceEnvironment,
+    pub(crate) buffer: RefCell<crate::intermediate::Buffer>,
+    /// Borrowed mutably by one FMI call at a time (FMI 3.0: no concurrent calls on an instance);
+    /// never by a call that arrives while `stepping`.
+    pub(crate) instance: UnsafeCell<Instance<M>>,
+}
+
+impl<M: Model> Shell<M> {
+    pub fn new(
+        instance: Instance<M>,
+        intermediate_update: fmi3IntermediateUpdateCallback,
+        environment: fmi3InstanceEnvironment,
+    ) -> Self {
+        Shell {
+            magic: INSTANCE_MAGIC,
+            stepping: Cell::new(false),
+            intermediate_update,
+            environment,
+            buffer: RefCell::new(Default::default()),
+            instance: UnsafeCell::new(instance),
+        }
+    }
+}
+
+pub struct Instance<M: Model> {
     /// Declared before `sink`: it holds a pointer to the sink and must be dropped first.
     pub inner: fmi2::instance::Instance<M>,
     pub sink: Sink,
@@ -31,7 +64,6 @@ pub struct Instance<M: Model> {
 impl<M: Model> Instance<M> {
     pub fn new(inner: fmi2::instance::Instance<M>, sink: Sink) -> Self {
         Instance {
-            magic: INSTANCE_MAGIC,
             inner,
             sink,
             vrs2: Vec::new(),

@@ -14,11 +14,14 @@
 //!   `catch_unwind`; the Co-Simulation ones are real, the others return fmi3Error with a reason.
 //! - `xml`: the FMI 3.0 modelDescription.xml.
 //!
-//! Inputs within a step: FMI 3.0 has no input derivatives, so an input keeps the value set before
+//! - `intermediate`: intermediate update, the FMI 3.0 way to take inputs within a step.
+//!
+//! Inputs within a step: FMI 3.0 has no input derivatives. A master that passes an
+//! `intermediateUpdate` callback is asked for the Float64 inputs (all marked
+//! `intermediateUpdate="true"`) at every internal time the model reads them; the model sees those
+//! values through `fmi2::StepInputs`. Without a callback an input keeps the value set before
 //! fmi3DoStep over the whole step (the fmi2 `Inputs` get zero derivatives, as for an FMI 2.0
-//! master that sets none). Intermediate update (`fmi3IntermediateUpdateCallback`, variables with
-//! `intermediateUpdate="true"`) is the planned way to take inputs within a step and is NOT
-//! implemented yet: the description says `providesIntermediateUpdate="false"`.
+//! master that sets none).
 //!
 //! Events are not used: `hasEventMode="false"`, fmi3InstantiateCoSimulation refuses
 //! `eventModeUsed = true` (FMI 3.0 requires that), and fmi3DoStep never signals an event or
@@ -108,6 +111,7 @@ pub mod export;
 pub mod export_unsupported;
 pub mod ffi;
 pub mod instance;
+pub mod intermediate;
 pub mod logging;
 pub mod state;
 pub mod types;

@@ -62,7 +62,7 @@ pub fn model_description(info: &ModelInfo) -> String {
     .unwrap();
     writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{id}" needsExecutionTool="false" canBeInstantiatedOnlyOncePerProcess="false" canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="false" providesAdjointDerivatives="false" providesPerElementDependencies="false" canHandleVariableCommunicationStepSize="true" maxOutputDerivativeOrder="{MAX_OUTPUT_DERIVATIVE_ORDER}" providesIntermediateUpdate="false" mightReturnEarlyFromDoStep="false" canReturnEarlyAfterIntermediateUpdate="false" hasEventMode="false" providesEvaluateDiscreteStates="false"/>"#
+        r#"  <CoSimulation modelIdentifier="{id}" needsExecutionTool="false" canBeInstantiatedOnlyOncePerProcess="false" canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="false" providesAdjointDerivatives="false" providesPerElementDependencies="false" canHandleVariableCommunicationStepSize="true" maxOutputDerivativeOrder="{MAX_OUTPUT_DERIVATIVE_ORDER}" providesIntermediateUpdate="true" mightReturnEarlyFromDoStep="false" canReturnEarlyAfterIntermediateUpdate="false" hasEventMode="false" providesEvaluateDiscreteStates="false"/>"#
     )
     .unwrap();
 
@@ -129,6 +129,10 @@ pub fn model_description(info: &ModelInfo) -> String {
         );
         if let Some(init) = v.initial {
             write!(attrs, r#" initial="{}""#, init.as_str()).unwrap();
+        }
+        // The inputs a master may set inside an intermediateUpdate callback (crate::intermediate).
+        if v.var_type == VarType::Real && v.causality == Causality::Input {
+            attrs.push_str(r#" intermediateUpdate="true""#);
         }
         match v.var_type {
             VarType::Real => {

@@ -4,7 +4,7 @@
 //! Value references are part of the product (third-party masters store them): append, never renumber.
 
 use crate::{AirFilm, BearingParams, FilmError, FilmOutputs, JournalState};
-use fmi2::{DefaultExperiment, Inputs, Log, Model, ModelInfo, StepOutcome, Store, Variable};
+use fmi2::{DefaultExperiment, Log, Model, ModelInfo, StepInputs, StepOutcome, Store, Variable};
 use serde::{Deserialize, Serialize};
 
 /// Real value references.
@@ -119,7 +119,7 @@ pub fn params_from(store: &Store) -> BearingParams {
     p
 }
 
-fn journal_at(inputs: &Inputs, t: f64) -> JournalState {
+fn journal_at(inputs: &dyn StepInputs, t: f64) -> JournalState {
     JournalState {
         dx_m: inputs.real_at(vr::DX, t),
         dy_m: inputs.real_at(vr::DY, t),
@@ -234,7 +234,13 @@ impl Model for AirFilmFmu {
         })
     }
 
-    fn do_step(&mut self, t: f64, h: f64, inputs: &Inputs, log: &mut dyn Log) -> StepOutcome {
+    fn do_step(
+        &mut self,
+        t: f64,
+        h: f64,
+        inputs: &dyn StepInputs,
+        log: &mut dyn Log,
+    ) -> StepOutcome {
         let before = [self.outputs.fx_n, self.outputs.fy_n];
         let result = self.film.advance(t, h, &|tt| journal_at(inputs, tt));
         let outputs = self.film.outputs();
@@ -375,7 +381,7 @@ mod tests {
         let n = m.film.pressures_rel().len();
         let j = m.film.journal();
         m.film.set_pressures_rel(0.0, j, &vec![1e307; n]).unwrap();
-        let inputs = Inputs {
+        let inputs = fmi2::Inputs {
             t0: 0.0,
             values: store.reals.clone(),
             derivatives: vec![[0.0; fmi2::MAX_INPUT_DERIVATIVE_ORDER]; store.reals.len()],

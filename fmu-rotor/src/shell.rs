@@ -6,7 +6,7 @@
 use crate::params::MAX_SPEED_POINTS;
 use crate::{BearingForces, Disturbance, Imbalance, Rotor, RotorError, RotorParams};
 use bearing::{Bore, BoreContact, ContactLaw};
-use fmi2::{DefaultExperiment, Inputs, Log, Model, ModelInfo, StepOutcome, Store, Variable};
+use fmi2::{DefaultExperiment, Log, Model, ModelInfo, StepInputs, StepOutcome, Store, Variable};
 use serde::{Deserialize, Serialize};
 
 /// Real value references (Integer ones at the end).
@@ -644,7 +644,13 @@ impl Model for RotorFmu {
         })
     }
 
-    fn do_step(&mut self, t: f64, h: f64, inputs: &Inputs, log: &mut dyn Log) -> StepOutcome {
+    fn do_step(
+        &mut self,
+        t: f64,
+        h: f64,
+        inputs: &dyn StepInputs,
+        log: &mut dyn Log,
+    ) -> StepOutcome {
         let forces = |tt: f64| BearingForces {
             fc_x_n: inputs.real_at(vr::F_C_X, tt),
             fc_y_n: inputs.real_at(vr::F_C_Y, tt),

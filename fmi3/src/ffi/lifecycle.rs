@@ -1,7 +1,7 @@
 //! Version, instantiation, freeing, debug logging and the state transitions of the instance.
 
 use super::{null_argument, slice, string, with};
-use crate::instance::Instance;
+use crate::instance::{Instance, Shell};
 use crate::logging::{all_log_categories, log_without_instance, Sink};
 use crate::state;
 use crate::types::*;
@@ -21,9 +21,11 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
     resource_path: fmi3String,
     logging_on: fmi3Boolean,
     event_mode_used: fmi3Boolean,
+    required_intermediate_variables: *const fmi3ValueReference,
     n_required_intermediate_variables: usize,
     instance_environment: fmi3InstanceEnvironment,
     log_message: fmi3LogMessageCallback,
+    intermediate_update: fmi3IntermediateUpdateCallback,
 ) -> fmi3Instance {
     const F: &str = "fmi3InstantiateCoSimulation";
     let result = catch_unwind(AssertUnwindSafe(|| {
@@ -54,13 +56,25 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
                 "eventModeUsed = true, but this FMU has no Event Mode (hasEventMode=\"false\")",
             );
         }
-        // Only variables with intermediateUpdate="true" may be required; we declare none.
-        if n_required_intermediate_variables > 0 {
-            return refuse(
-                "requiredIntermediateVariables given, but this FMU provides no intermediate update",
-            );
-        }
         let info = M::info();
+        // Only variables with intermediateUpdate="true" may be required: the Float64 inputs.
+        // SAFETY: FMI contract: an array of n_required_intermediate_variables value references.
+        let Some(required) = (unsafe {
+            slice(
+                required_intermediate_variables,
+                n_required_intermediate_variables,
+            )
+        }) else {
+            return refuse("requiredIntermediateVariables is null");
+        };
+        if let Some(vr) = required
+            .iter()
+            .find(|vr| !crate::value_refs::is_float64_input(&info, **vr))
+        {
+            return refuse(&format!(
+                "requiredIntermediateVariables: value reference {vr} is not a Float64 input (only those have intermediateUpdate=\"true\")"
+            ));
+        }
         if let Err(e) = crate::value_refs::check(&info) {
             return refuse(&format!(
                 "the model's variable table does not fit FMI 3.0: {e}"
@@ -84,7 +98,11 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
             Some(sink.fmi2_callbacks()),
             true,
         ) {
-            Ok(inner) => Box::into_raw(Box::new(Instance::new(inner, sink))) as fmi3Instance,
+            Ok(inner) => Box::into_raw(Box::new(Shell::new(
+                Instance::new(inner, sink),
+                intermediate_update,
+                instance_environment,
+            ))) as fmi3Instance,
             Err((logger, reason)) => {
                 logger.reject(Status::Error, F, &reason);
                 // The logger points to the sink: drop it first.
@@ -126,14 +144,26 @@ pub unsafe fn refuse_instantiation(
 /// `c` null or from `instantiate_co_simulation::<M>`; it is invalid afterwards.
 pub unsafe fn free_instance<M: Model>(c: fmi3Instance) {
     // SAFETY: contract above.
-    if unsafe { super::instance::<M>(c) }.is_some() {
-        let _ = catch_unwind(|| {
-            // SAFETY: created by Box::into_raw in `instantiate_co_simulation`; clearing the magic makes
-            // a second free of the same (not yet reused) memory a detected no-op, not a double free.
-            let mut inst = unsafe { Box::from_raw(c as *mut Instance<M>) };
-            inst.magic = 0;
-            drop(inst);
-        });
+    match unsafe { super::shell::<M>(c) } {
+        // Freeing from inside an intermediateUpdate callback would free the stepping model.
+        Some(shell) if shell.stepping.get() => {
+            super::refuse_while_stepping(
+                shell,
+                "fmi3FreeInstance",
+                "not allowed in an intermediateUpdate callback",
+            );
+        }
+        Some(_) => {
+            let _ = catch_unwind(|| {
+                // SAFETY: created by Box::into_raw in `instantiate_co_simulation`; clearing the magic
+                // makes a second free of the same (not yet reused) memory a detected no-op, not a
+                // double free.
+                let mut shell = unsafe { Box::from_raw(c as *mut Shell<M>) };
+                shell.magic = 0;
+                drop(shell);
+            });
+        }
+        None => {}
     }
 }
 

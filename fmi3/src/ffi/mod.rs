@@ -15,7 +15,7 @@ pub mod step;
 pub mod unsupported;
 pub mod values;
 
-use crate::instance::{Instance, INSTANCE_MAGIC};
+use crate::instance::{Instance, Shell, INSTANCE_MAGIC};
 use crate::types::*;
 use fmi2::instance::Phase;
 use fmi2::{Model, Status};
@@ -43,32 +43,36 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
 
 /// # Safety
 /// `c` must be null or a pointer returned by `instantiate_co_simulation::<M>` and not yet freed.
-pub(crate) unsafe fn instance<'a, M: Model>(c: fmi3Instance) -> Option<&'a mut Instance<M>> {
+pub(crate) unsafe fn shell<'a, M: Model>(c: fmi3Instance) -> Option<&'a Shell<M>> {
     if c.is_null() {
         return None;
     }
     // SAFETY: per the contract above; the magic check catches a mismatched model type or a stale
     // pointer whose memory has been reused (best effort: a truly foreign pointer cannot be detected).
-    let inst = unsafe { &mut *(c as *mut Instance<M>) };
-    (inst.magic == INSTANCE_MAGIC).then_some(inst)
+    // A shared reference: a call that re-enters during fmi3DoStep (intermediate update) sees the
+    // shell while the step holds the instance inside it mutably (an UnsafeCell).
+    let shell = unsafe { &*(c as *const Shell<M>) };
+    (shell.magic == INSTANCE_MAGIC).then_some(shell)
 }
 
-/// Runs `body` on the instance behind `c`, catching panics.
-pub(crate) fn with<M: Model>(
+/// Runs `body` on the shell behind `c`, catching panics; a panic puts the instance in its error
+/// state (`function` names the call in the log).
+pub(crate) fn with_shell<M: Model>(
     c: fmi3Instance,
     function: &str,
-    body: impl FnOnce(&mut Instance<M>) -> Status,
+    body: impl FnOnce(&Shell<M>) -> Status,
 ) -> fmi3Status {
     // SAFETY: FMI contract: the importer passes the instance it got from fmi3InstantiateCoSimulation.
-    let Some(inst) = (unsafe { instance::<M>(c) }) else {
+    let Some(shell) = (unsafe { shell::<M>(c) }) else {
         return FMI3_ERROR;
     };
-    let inst_ptr: *mut Instance<M> = inst;
-    match catch_unwind(AssertUnwindSafe(|| body(inst))) {
+    match catch_unwind(AssertUnwindSafe(|| body(shell))) {
         Ok(s) => raw(s),
         Err(payload) => {
-            // SAFETY: the closure that borrowed the instance has ended (it unwound).
-            let inst = unsafe { &mut *inst_ptr };
+            shell.stepping.set(false);
+            // SAFETY: the closure that borrowed the instance has ended (it unwound), and no other
+            // call is inside this instance (FMI 3.0: one call at a time, re-entry only in a step).
+            let inst = unsafe { &mut *shell.instance.get() };
             inst.inner.core.phase = Phase::Error;
             inst.reject(
                 Status::Error,
@@ -81,6 +85,37 @@ pub(crate) fn with<M: Model>(
             FMI3_ERROR
         }
     }
+}
+
+/// Runs `body` on the instance behind `c`, catching panics. A call that arrives while the
+/// instance's model steps (from inside an intermediateUpdate callback) is refused: only
+/// fmi3SetFloat64 of inputs is allowed there (`values::set_float64`).
+pub(crate) fn with<M: Model>(
+    c: fmi3Instance,
+    function: &str,
+    body: impl FnOnce(&mut Instance<M>) -> Status,
+) -> fmi3Status {
+    with_shell::<M>(c, function, |shell| {
+        if shell.stepping.get() {
+            return refuse_while_stepping(shell, function, "not allowed in an intermediateUpdate callback (Intermediate Update Mode allows fmi3SetFloat64 of inputs only)");
+        }
+        // SAFETY: not stepping, so no other reference to the instance exists (FMI 3.0: one call
+        // at a time on an instance); it lives until fmi3FreeInstance.
+        body(unsafe { &mut *shell.instance.get() })
+    })
+}
+
+/// Refuses a call made while the model steps; the reason is logged by fmi3DoStep after the step
+/// (the logger belongs to the stepping instance).
+pub(crate) fn refuse_while_stepping<M: Model>(
+    shell: &Shell<M>,
+    function: &str,
+    reason: impl Into<String>,
+) -> Status {
+    if let Ok(mut b) = shell.buffer.try_borrow_mut() {
+        b.refused.push((function.to_string(), reason.into()));
+    }
+    Status::Error
 }
 
 /// A slice from a C array; `None` if the pointer is null while `n > 0`.

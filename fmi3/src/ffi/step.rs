@@ -1,16 +1,28 @@
 //! fmi3DoStep.
 //!
-//! The inputs are held at the values set before the call over the whole step: FMI 3.0 has no
-//! fmi3SetInputDerivatives, so the fmi2 instance builds `Inputs` with zero derivatives, exactly as
-//! for an FMI 2.0 master that never calls fmi2SetRealInputDerivatives. Intermediate update (the
-//! FMI 3.0 way to exchange inputs inside a step) is not implemented.
+//! FMI 3.0 has no fmi3SetInputDerivatives. Without an intermediateUpdate callback an input keeps
+//! the value set before the call over the whole step (the fmi2 instance builds `Inputs` with zero
+//! derivatives, exactly as for an FMI 2.0 master that never calls fmi2SetRealInputDerivatives).
+//! With one, the model's reads at internal times ask the master (`crate::intermediate`).
 
-use super::{null_argument, with};
-use crate::instance::Instance;
+use super::{null_argument, with_shell};
+use crate::instance::{Instance, Shell};
+use crate::intermediate::CallbackInputs;
 use crate::state;
 use crate::types::*;
 use fmi2::instance::Phase;
-use fmi2::Model;
+use fmi2::variables::{Causality, VarType};
+use fmi2::{Model, Status};
+use std::cell::Cell;
+
+/// Clears `stepping` when the step ends, also by a panic (caught further out).
+struct SteppingGuard<'a>(&'a Cell<bool>);
+
+impl Drop for SteppingGuard<'_> {
+    fn drop(&mut self) {
+        self.0.set(false);
+    }
+}
 
 /// # Safety
 /// FMI 3.0 `fmi3DoStep`: the four output pointers point to writable values.
@@ -25,7 +37,18 @@ pub unsafe fn do_step<M: Model>(
     last_successful_time_s: *mut f64,
 ) -> fmi3Status {
     const F: &str = "fmi3DoStep";
-    with::<M>(c, F, |inst: &mut Instance<M>| {
+    with_shell::<M>(c, F, |shell: &Shell<M>| {
+        if shell.stepping.get() {
+            return super::refuse_while_stepping(
+                shell,
+                F,
+                "not allowed in an intermediateUpdate callback",
+            );
+        }
+        // SAFETY: not stepping, so no other reference to the instance exists (FMI 3.0: one call at
+        // a time). Calls that re-enter during the model's step see `stepping` and touch only the
+        // shell's buffer, never this instance.
+        let inst: &mut Instance<M> = unsafe { &mut *shell.instance.get() };
         if event_handling_needed.is_null()
             || terminate_simulation.is_null()
             || early_return.is_null()
@@ -46,10 +69,53 @@ pub unsafe fn do_step<M: Model>(
             *terminate_simulation = true;
             *last_successful_time_s = inst.inner.core.last_successful_time;
         }
-        let status = inst.run(F, state::MASK_DO_STEP, |i| {
-            i.inner
-                .do_step(current_communication_point_s, communication_step_size_s)
-        });
+        let status = match shell.intermediate_update {
+            None => inst.run(F, state::MASK_DO_STEP, |i| {
+                i.inner
+                    .do_step(current_communication_point_s, communication_step_size_s)
+            }),
+            Some(callback) => {
+                let info = &inst.inner.info;
+                let is_input = |vr: usize| {
+                    info.variables.iter().any(|v| {
+                        v.var_type == VarType::Real
+                            && v.vr as usize == vr
+                            && v.causality == Causality::Input
+                    })
+                };
+                shell
+                    .buffer
+                    .borrow_mut()
+                    .start(&inst.inner.core.store.reals, is_input);
+                let source = CallbackInputs {
+                    callback,
+                    environment: shell.environment,
+                    buffer: &shell.buffer,
+                    asked_at: Cell::new(f64::NAN),
+                };
+                shell.stepping.set(true);
+                let guard = SteppingGuard(&shell.stepping);
+                let status = inst.run(F, state::MASK_DO_STEP, |i| {
+                    i.inner.do_step_with(
+                        current_communication_point_s,
+                        communication_step_size_s,
+                        Some(&source),
+                    )
+                });
+                drop(guard);
+                let mut buffer = shell.buffer.borrow_mut();
+                for (function, reason) in buffer.refused.drain(..) {
+                    inst.reject(Status::Error, &function, &reason);
+                }
+                // FMI 3.0: an input keeps the value the master set last.
+                for (vr, v) in buffer.reals.iter().enumerate() {
+                    if buffer.is_input[vr] {
+                        inst.inner.core.store.reals[vr] = *v;
+                    }
+                }
+                status
+            }
+        };
         // SAFETY: as above.
         unsafe {
             // A model failure ends the run; a discarded step can be retried from a saved state.

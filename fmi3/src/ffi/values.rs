@@ -72,7 +72,56 @@ macro_rules! direct {
 }
 
 direct!(get get_float64, "fmi3GetFloat64", fmi3Float64, get_float64);
-direct!(set set_float64, "fmi3SetFloat64", fmi3Float64, set_float64);
+direct!(set set_float64_outside_step, "fmi3SetFloat64", fmi3Float64, set_float64);
+
+/// # Safety
+/// FMI 3.0 `fmi3SetFloat64`: `vr` points to `n_vr` and `value` to `n_values` elements.
+///
+/// Inside an intermediateUpdate callback (the model is in fmi3DoStep) the values go to the shell's
+/// buffer, which the stepping model reads (`crate::intermediate`); otherwise to the instance.
+pub unsafe fn set_float64<M: Model>(
+    c: fmi3Instance,
+    vr: *const fmi3ValueReference,
+    n_vr: usize,
+    value: *const fmi3Float64,
+    n_values: usize,
+) -> fmi3Status {
+    const F: &str = "fmi3SetFloat64";
+    // SAFETY: FMI contract: the instance from fmi3InstantiateCoSimulation, or null.
+    let stepping = unsafe { super::shell::<M>(c) }.is_some_and(|s| s.stepping.get());
+    if !stepping {
+        // SAFETY: the caller's contract.
+        return unsafe { set_float64_outside_step::<M>(c, vr, n_vr, value, n_values) };
+    }
+    super::with_shell::<M>(c, F, |shell| {
+        // SAFETY: FMI contract: arrays of the given lengths.
+        let (Some(vrs), Some(vals)) = (unsafe { slice(vr, n_vr) }, unsafe {
+            slice(value, n_values)
+        }) else {
+            return super::refuse_while_stepping(
+                shell,
+                F,
+                "valueReferences or values is a null pointer",
+            );
+        };
+        if n_vr != n_values {
+            return super::refuse_while_stepping(
+                shell,
+                F,
+                format!("nValues ({n_values}) must equal nValueReferences ({n_vr})"),
+            );
+        }
+        // Float64 value references are the fmi2 Real ones (`value_refs`); `set` checks each is an input.
+        let result = match shell.buffer.try_borrow_mut() {
+            Ok(mut b) => b.set(vrs, vals),
+            Err(_) => Err("re-entered while the buffer is in use".into()),
+        };
+        match result {
+            Ok(()) => Status::Ok,
+            Err(reason) => super::refuse_while_stepping(shell, F, reason),
+        }
+    })
+}
 direct!(get get_int32, "fmi3GetInt32", fmi3Int32, get_int32);
 direct!(set set_int32, "fmi3SetInt32", fmi3Int32, set_int32);
 

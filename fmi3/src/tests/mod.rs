@@ -2,6 +2,7 @@
 
 mod api;
 mod fmu;
+mod intermediate;
 mod lag;
 mod state;
 mod xml;

@@ -30,7 +30,7 @@ fn description_is_well_formed_and_matches_fmi2() {
         ("canHandleVariableCommunicationStepSize", "true"),
         ("canGetAndSetFMUState", "true"),
         ("canSerializeFMUState", "true"),
-        ("providesIntermediateUpdate", "false"),
+        ("providesIntermediateUpdate", "true"),
         ("canReturnEarlyAfterIntermediateUpdate", "false"),
         ("hasEventMode", "false"),
         ("maxOutputDerivativeOrder", "1"),

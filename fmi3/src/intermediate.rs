@@ -1,0 +1,115 @@
+//! Intermediate update: the FMU asks the master for its inputs at the model's internal times.
+//!
+//! FMI 3.0 has no input derivatives. With an `intermediateUpdate` callback, fmi3DoStep calls it
+//! whenever the model reads an input at a time other than the step's start
+//! (`intermediateVariableSetRequested = true`); inside the callback the master calls
+//! fmi3SetFloat64 for inputs marked `intermediateUpdate="true"`. Those calls re-enter the instance
+//! while its model is in the middle of a step, so they must not touch the model: they write into
+//! [`Buffer`], which lives beside the instance (in the [`Shell`](crate::instance::Shell)), never
+//! inside it. Reads at one internal time call the master once (the model reads all its inputs at
+//! the same time).
+//!
+//! An input the master does not set in a callback keeps its last value: a master that answers
+//! nothing gets the inputs held over the step, as without a callback.
+
+use crate::types::*;
+use fmi2::{Inputs, IntermediateInputs};
+use std::cell::{Cell, RefCell};
+
+/// Real values as the master sets them inside intermediateUpdate callbacks.
+#[derive(Debug, Default)]
+pub struct Buffer {
+    /// Inside a callback: fmi3SetFloat64 of an input is allowed.
+    pub(crate) open: bool,
+    /// All Real values by fmi2 value reference; the inputs are overwritten by the master.
+    pub(crate) reals: Vec<f64>,
+    /// Which fmi2 Real value references are inputs (may be set in a callback).
+    pub(crate) is_input: Vec<bool>,
+    /// Calls refused while the model stepped (logged by fmi3DoStep afterwards: the logger belongs
+    /// to the stepping instance).
+    pub(crate) refused: Vec<(String, String)>,
+}
+
+impl Buffer {
+    /// Starts a step whose inputs hold `reals` at its start.
+    pub(crate) fn start(&mut self, reals: &[f64], is_input: impl Fn(usize) -> bool) {
+        self.open = false;
+        self.reals.clear();
+        self.reals.extend_from_slice(reals);
+        self.is_input.clear();
+        self.is_input.extend((0..reals.len()).map(is_input));
+        self.refused.clear();
+    }
+
+    /// fmi3SetFloat64 inside a callback (`vrs` are fmi2 Real value references).
+    pub(crate) fn set(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), String> {
+        if !self.open {
+            return Err("called during fmi3DoStep outside an intermediateUpdate callback".into());
+        }
+        if let Some(vr) = vrs
+            .iter()
+            .find(|vr| !self.is_input.get(**vr as usize).copied().unwrap_or(false))
+        {
+            return Err(format!(
+                "value reference {vr} is not an input with intermediateUpdate=\"true\""
+            ));
+        }
+        if let Some((vr, v)) = vrs.iter().zip(values).find(|(_, v)| !v.is_finite()) {
+            return Err(format!("value {v} for value reference {vr} is not finite"));
+        }
+        for (vr, v) in vrs.iter().zip(values) {
+            self.reals[*vr as usize] = *v;
+        }
+        Ok(())
+    }
+}
+
+/// The master's callback as the model's input source for one step.
+pub(crate) struct CallbackInputs<'a> {
+    pub callback: unsafe extern "C" fn(
+        fmi3InstanceEnvironment,
+        fmi3Float64,
+        fmi3Boolean,
+        fmi3Boolean,
+        fmi3Boolean,
+        fmi3Boolean,
+        *mut fmi3Boolean,
+        *mut fmi3Float64,
+    ),
+    pub environment: fmi3InstanceEnvironment,
+    pub buffer: &'a RefCell<Buffer>,
+    /// The internal time the buffer was last filled for (NaN: none yet).
+    pub asked_at: Cell<f64>,
+}
+
+impl IntermediateInputs for CallbackInputs<'_> {
+    fn real_at(&self, held: &Inputs, vr: u32, t: f64) -> f64 {
+        // At the step's start the inputs are the values set before fmi3DoStep.
+        if t == held.t0 {
+            return held.values[vr as usize];
+        }
+        if self.asked_at.get().to_bits() != t.to_bits() {
+            self.buffer.borrow_mut().open = true;
+            let mut early_return_requested = false;
+            let mut early_return_time = t;
+            // SAFETY: the master's callback with its own environment (FMI 3.0 section 4.2.1); the
+            // out pointers are valid locals. Inside it the master may call fmi3SetFloat64, which
+            // writes into `buffer` only (no borrow of it is held here).
+            unsafe {
+                (self.callback)(
+                    self.environment,
+                    t,
+                    true,
+                    false,
+                    false,
+                    false,
+                    &mut early_return_requested,
+                    &mut early_return_time,
+                )
+            };
+            self.buffer.borrow_mut().open = false;
+            self.asked_at.set(t);
+        }
+        self.buffer.borrow().reals[vr as usize]
+    }
+}
