@@ -23,11 +23,12 @@ use crate::error::{RestoreError, StepError};
 use crate::parallel::StepPool;
 use crate::parallel_choice::{Stepping, SteppingChoice, SteppingStats};
 use crate::polynomial::{taylor_derivatives, taylor_value};
+use crate::slave::Fmu;
 use crate::step_control::{
     ControlStats, StepControl, MAX_HALVINGS, RELAX_BELOW, SAVE_BURST_STEPS, SAVE_EVERY,
 };
 use crate::subsystem::Subsystem;
-use fmi2::importer::{CallError, Fmu};
+use fmi2::importer::CallError;
 use fmi2::Status;
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};

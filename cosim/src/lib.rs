@@ -27,6 +27,7 @@ pub mod parallel_choice;
 pub mod polynomial;
 pub mod report;
 pub mod setup;
+pub mod slave;
 pub mod ssp;
 pub mod step_control;
 pub mod subsystem;

@@ -1,10 +1,11 @@
 //! From a system file to instantiated, initialized FMUs wired together.
 
 use crate::algorithm::{AlgorithmConfig, CoSim, Scheme};
+use crate::slave::{Fmu, Slave};
 use crate::step_control::StepControl;
 use crate::subsystem::{Link, Subsystem};
 use crate::system::{split_port, split_quantity, System, SystemError};
-use fmi2::importer::{Fmu, LogHandler, ModelDescription};
+use fmi2::importer::{LogHandler, ModelDescription};
 use fmi2::{Causality, VarType};
 
 /// More macro steps than this in one run are refused (10^9 steps of the fastest FMUs here take
@@ -134,11 +135,11 @@ fn set_parameter(
     sys: &System,
     fmu: &Fmu,
     inst: &str,
-    sub: &fmi2::importer::Slave,
+    sub: &Slave,
     name: &str,
     value: &toml::Spanned<toml::Value>,
 ) -> Result<(), SystemError> {
-    let (vr, v) = parameter_value(sys, &fmu.description, inst, name, value)?;
+    let (vr, v) = parameter_value(sys, fmu.description(), inst, name, value)?;
     match v {
         ParamValue::Real(x) => sub.set_real(&[vr], &[x]),
         ParamValue::Integer(i) => sub.set_integer(&[vr], &[i]),
@@ -239,7 +240,7 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
         for (pname, value) in &e.parameters {
             set_parameter(sys, &fmu, &name, &slave, pname, value)?;
         }
-        subs.push(Subsystem::new(name, slave, &fmu.description));
+        subs.push(Subsystem::new(name, slave, fmu.description()));
         fmus.push(fmu);
     }
 
@@ -254,7 +255,7 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
             .iter()
             .position(|s| s == inst)
             .ok_or_else(|| sys.error_at(port, field, format!("no FMU instance '{inst}'")))?;
-        let v = fmus[i].description.variable(var).ok_or_else(|| {
+        let v = fmus[i].description().variable(var).ok_or_else(|| {
             sys.error_at(port, field, format!("'{inst}' has no variable '{var}'"))
         })?;
         if v.causality != want || v.var_type != VarType::Real {
@@ -322,7 +323,7 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
         let i = subs.iter().position(|s| s.name == inst).ok_or_else(|| {
             sys.error_at(v, "output.variables", format!("no FMU instance '{inst}'"))
         })?;
-        let sv = fmus[i].description.variable(var).ok_or_else(|| {
+        let sv = fmus[i].description().variable(var).ok_or_else(|| {
             sys.error_at(
                 v,
                 "output.variables",
@@ -367,7 +368,7 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
     let guids = subs
         .iter()
         .zip(&fmus)
-        .map(|(s, f)| (s.name.clone(), f.description.guid.clone()))
+        .map(|(s, f)| (s.name.clone(), f.description().guid.clone()))
         .collect();
     let cosim = CoSim::initialize(subs, order, config, fmus).map_err(|e| {
         SystemError(format!(

@@ -17,8 +17,9 @@
 //! the input before it.
 
 use crate::setup::{parameter_value, ParamValue};
+use crate::slave::Fmu;
 use crate::system::{split_port, System, SystemError};
-use fmi2::importer::{Fmu, ModelDescription};
+use fmi2::importer::ModelDescription;
 use fmi2::Causality;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -134,7 +135,7 @@ pub fn export(system_path: &Path, out: &Path) -> Result<Exported, String> {
         };
         let mut parameters = vec![];
         for (pname, value) in &e.parameters {
-            let (_, v) = parameter_value(&sys, &fmu.description, &name, pname, value)
+            let (_, v) = parameter_value(&sys, fmu.description(), &name, pname, value)
                 .map_err(|e| e.to_string())?;
             parameters.push((pname.clone(), v));
         }
@@ -144,7 +145,7 @@ pub fn export(system_path: &Path, out: &Path) -> Result<Exported, String> {
             connectors: vec![],
             parameters,
         });
-        fmus.insert(name, fmu.description.clone());
+        fmus.insert(name, fmu.description().clone());
     }
 
     // Connections, and the connectors they and the recorded outputs need.

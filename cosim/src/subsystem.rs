@@ -1,7 +1,8 @@
 //! One FMU instance in the co-simulation: its slave, its input links, the coupling outputs at the
 //! last macro points, and the scratch buffers that keep the macro step free of allocations.
 
-use fmi2::importer::{CallError, FmuState, ModelDescription, Slave};
+use crate::slave::{FmuState, Slave};
+use fmi2::importer::{CallError, ModelDescription};
 use fmi2::Status;
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};

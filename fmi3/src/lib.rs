@@ -110,6 +110,8 @@ pub const FUNCTIONS: [&str; 75] = [
 pub mod export;
 pub mod export_unsupported;
 pub mod ffi;
+#[cfg(feature = "importer")]
+pub mod importer;
 pub mod instance;
 pub mod intermediate;
 pub mod logging;

@@ -83,6 +83,18 @@ pub fn check(info: &ModelInfo) -> Result<(), String> {
     Ok(())
 }
 
+/// Is FMI 3.0 value reference `vr3` a Float64 input (the variables with `intermediateUpdate="true"`)?
+pub fn is_float64_input(info: &ModelInfo, vr3: u32) -> bool {
+    match target(vr3) {
+        Target::Variable(VarType::Real, vr) => info.variables.iter().any(|v| {
+            v.var_type == VarType::Real
+                && v.vr == vr
+                && v.causality == fmi2::variables::Causality::Input
+        }),
+        _ => false,
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -97,17 +109,5 @@ mod tests {
         assert_eq!(target(TIME_VR), Target::Time);
         assert_eq!(target(TIME_VR + 1), Target::Unknown);
         assert_eq!(target(u32::MAX), Target::Unknown);
-    }
-}
-
-/// Is FMI 3.0 value reference `vr3` a Float64 input (the variables with `intermediateUpdate="true"`)?
-pub fn is_float64_input(info: &ModelInfo, vr3: u32) -> bool {
-    match target(vr3) {
-        Target::Variable(VarType::Real, vr) => info.variables.iter().any(|v| {
-            v.var_type == VarType::Real
-                && v.vr == vr
-                && v.causality == fmi2::variables::Causality::Input
-        }),
-        _ => false,
     }
 }

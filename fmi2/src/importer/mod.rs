@@ -48,6 +48,12 @@ impl Fmu {
         } else {
             Some(unpack(path)?)
         };
+        Self::from_unpacked(path, unpacked)
+    }
+
+    /// An FMU already unpacked (by `unpack`, e.g. to read its FMI version first), or the folder
+    /// `path` itself when `unpacked` is `None`.
+    pub fn from_unpacked(path: &Path, unpacked: Option<UnpackedDir>) -> Result<Fmu, ImportError> {
         let dir = unpacked
             .as_ref()
             .map_or_else(|| path.to_path_buf(), |u| u.path().to_path_buf());

@@ -11,13 +11,15 @@ use std::ffi::{c_void, CStr, CString};
 /// What the test master does inside an intermediateUpdate callback.
 type Answer = dyn Fn(fmi3Instance, f64) -> Vec<fmi3Status>;
 
+/// An intermediateUpdate call: (time, setRequested, getAllowed, stepFinished, canReturnEarly).
+type Call = (f64, bool, bool, bool, bool);
+
 /// The instance environment: the log, the answer, and what happened in the callbacks.
 struct Master {
     log: RefCell<Vec<(fmi3Status, String)>>,
     instance: RefCell<fmi3Instance>,
     answer: Box<Answer>,
-    /// (intermediateUpdateTime, setRequested, getAllowed, stepFinished, canReturnEarly)
-    calls: RefCell<Vec<(f64, bool, bool, bool, bool)>>,
+    calls: RefCell<Vec<Call>>,
     /// Statuses of the master's own calls inside the callbacks.
     statuses: RefCell<Vec<fmi3Status>>,
 }
