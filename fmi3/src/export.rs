@@ -45,8 +45,7 @@ macro_rules! export_fmu {
                 _visible: fmi3Boolean,
                 logging_on: fmi3Boolean,
                 event_mode_used: fmi3Boolean,
-                // Accepted and unused: this FMU never returns early.
-                _early_return_allowed: fmi3Boolean,
+                early_return_allowed: fmi3Boolean,
                 required_intermediate_variables: *const fmi3ValueReference,
                 n_required_intermediate_variables: usize,
                 instance_environment: fmi3InstanceEnvironment,
@@ -61,6 +60,7 @@ macro_rules! export_fmu {
                         resource_path,
                         logging_on,
                         event_mode_used,
+                        early_return_allowed,
                         required_intermediate_variables,
                         n_required_intermediate_variables,
                         instance_environment,

@@ -28,6 +28,8 @@ pub struct Shell<M: Model> {
     pub(crate) magic: u64,
     /// fmi3DoStep is running the model.
     pub(crate) stepping: Cell<bool>,
+    /// The master handles a step that ends before its end (earlyReturnAllowed).
+    pub(crate) early_return_allowed: bool,
     pub(crate) intermediate_update: fmi3IntermediateUpdateCallback,
     pub(crate) environment: fmi3InstanceEnvironment,
     pub(crate) buffer: RefCell<crate::intermediate::Buffer>,
@@ -39,12 +41,14 @@ pub struct Shell<M: Model> {
 impl<M: Model> Shell<M> {
     pub fn new(
         instance: Instance<M>,
+        early_return_allowed: bool,
         intermediate_update: fmi3IntermediateUpdateCallback,
         environment: fmi3InstanceEnvironment,
     ) -> Self {
         Shell {
             magic: INSTANCE_MAGIC,
             stepping: Cell::new(false),
+            early_return_allowed,
             intermediate_update,
             environment,
             buffer: RefCell::new(Default::default()),

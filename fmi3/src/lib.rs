@@ -24,8 +24,9 @@
 //! master that sets none).
 //!
 //! Events are not used: `hasEventMode="false"`, fmi3InstantiateCoSimulation refuses
-//! `eventModeUsed = true` (FMI 3.0 requires that), and fmi3DoStep never signals an event or
-//! returns early. Several instances per process are independent (no globals).
+//! `eventModeUsed = true` (FMI 3.0 requires that), and fmi3DoStep never signals an event. It
+//! returns early where the model stopped short of the step's end and the master allows it
+//! (`ffi::step`). Several instances per process are independent (no globals).
 
 /// The 75 functions of fmi3Functions.h (FMI 3.0.2): what `export_fmu!` defines, and exactly what
 /// an FMI 3.0 FMU's library exports (tests/tests/fmu_binaries.rs).

@@ -62,7 +62,7 @@ pub fn model_description(info: &ModelInfo) -> String {
     .unwrap();
     writeln!(
         x,
-        r#"  <CoSimulation modelIdentifier="{id}" needsExecutionTool="false" canBeInstantiatedOnlyOncePerProcess="false" canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="false" providesAdjointDerivatives="false" providesPerElementDependencies="false" canHandleVariableCommunicationStepSize="true" maxOutputDerivativeOrder="{MAX_OUTPUT_DERIVATIVE_ORDER}" providesIntermediateUpdate="true" mightReturnEarlyFromDoStep="false" canReturnEarlyAfterIntermediateUpdate="false" hasEventMode="false" providesEvaluateDiscreteStates="false"/>"#
+        r#"  <CoSimulation modelIdentifier="{id}" needsExecutionTool="false" canBeInstantiatedOnlyOncePerProcess="false" canGetAndSetFMUState="true" canSerializeFMUState="true" providesDirectionalDerivatives="false" providesAdjointDerivatives="false" providesPerElementDependencies="false" canHandleVariableCommunicationStepSize="true" maxOutputDerivativeOrder="{MAX_OUTPUT_DERIVATIVE_ORDER}" providesIntermediateUpdate="true" mightReturnEarlyFromDoStep="true" canReturnEarlyAfterIntermediateUpdate="false" hasEventMode="false" providesEvaluateDiscreteStates="false"/>"#
     )
     .unwrap();
 

@@ -21,6 +21,7 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
     resource_path: fmi3String,
     logging_on: fmi3Boolean,
     event_mode_used: fmi3Boolean,
+    early_return_allowed: fmi3Boolean,
     required_intermediate_variables: *const fmi3ValueReference,
     n_required_intermediate_variables: usize,
     instance_environment: fmi3InstanceEnvironment,
@@ -100,6 +101,7 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
         ) {
             Ok(inner) => Box::into_raw(Box::new(Shell::new(
                 Instance::new(inner, sink),
+                early_return_allowed,
                 intermediate_update,
                 instance_environment,
             ))) as fmi3Instance,

@@ -4,6 +4,14 @@
 //! the value set before the call over the whole step (the fmi2 instance builds `Inputs` with zero
 //! derivatives, exactly as for an FMI 2.0 master that never calls fmi2SetRealInputDerivatives).
 //! With one, the model's reads at internal times ask the master (`crate::intermediate`).
+//!
+//! Early return: a model that cannot finish a step stops at its last good internal time
+//! (`StepOutcome::Discard` with the time reached; the films when a journal crosses the contact
+//! limit or Newton fails, the rotor when its error control gives up). FMI 2.0 can only say
+//! fmi2Discard, and the master must restore a state and retry. A master that allows early return
+//! (earlyReturnAllowed) instead gets fmi3OK with earlyReturn = true at lastSuccessfulTime, the
+//! instance in Step Mode there: it continues from that time without a restore. A discard without
+//! progress stays fmi3Discard.
 
 use super::{null_argument, with_shell};
 use crate::instance::{Instance, Shell};
@@ -12,7 +20,7 @@ use crate::state;
 use crate::types::*;
 use fmi2::instance::Phase;
 use fmi2::variables::{Causality, VarType};
-use fmi2::{Model, Status};
+use fmi2::{IntermediateInputs, Model, Status};
 use std::cell::Cell;
 
 /// Clears `stepping` when the step ends, also by a panic (caught further out).
@@ -62,18 +70,32 @@ pub unsafe fn do_step<M: Model>(
         }
         // SAFETY: checked non-null above; FMI contract: each points to one writable value.
         unsafe {
-            // No events are ever signalled (hasEventMode="false") and no step returns early.
+            // No events are ever signalled (hasEventMode="false").
             *event_handling_needed = false;
             *early_return = false;
             // Written before the step: if the model panics, these are what the importer sees.
             *terminate_simulation = true;
             *last_successful_time_s = inst.inner.core.last_successful_time;
         }
+        let t_s = current_communication_point_s;
+        let mut returned_early = false;
+        let early_return_allowed = shell.early_return_allowed;
+        let mut step = |i: &mut Instance<M>, source: Option<&dyn IntermediateInputs>| match i
+            .inner
+            .do_step_with(t_s, communication_step_size_s, source)
+        {
+            Err((Status::Discard, reason))
+                if early_return_allowed && i.inner.core.last_successful_time > t_s =>
+            {
+                i.inner.core.phase = Phase::StepComplete;
+                i.reject(Status::Warning, F, &format!("early return: {reason}"));
+                returned_early = true;
+                Ok(Status::Ok)
+            }
+            r => r,
+        };
         let status = match shell.intermediate_update {
-            None => inst.run(F, state::MASK_DO_STEP, |i| {
-                i.inner
-                    .do_step(current_communication_point_s, communication_step_size_s)
-            }),
+            None => inst.run(F, state::MASK_DO_STEP, |i| step(i, None)),
             Some(callback) => {
                 let info = &inst.inner.info;
                 let is_input = |vr: usize| {
@@ -95,13 +117,7 @@ pub unsafe fn do_step<M: Model>(
                 };
                 shell.stepping.set(true);
                 let guard = SteppingGuard(&shell.stepping);
-                let status = inst.run(F, state::MASK_DO_STEP, |i| {
-                    i.inner.do_step_with(
-                        current_communication_point_s,
-                        communication_step_size_s,
-                        Some(&source),
-                    )
-                });
+                let status = inst.run(F, state::MASK_DO_STEP, |i| step(i, Some(&source)));
                 drop(guard);
                 let mut buffer = shell.buffer.borrow_mut();
                 for (function, reason) in buffer.refused.drain(..) {
@@ -120,6 +136,7 @@ pub unsafe fn do_step<M: Model>(
         unsafe {
             // A model failure ends the run; a discarded step can be retried from a saved state.
             *terminate_simulation = inst.phase() == Phase::Error;
+            *early_return = returned_early;
             *last_successful_time_s = inst.inner.core.last_successful_time;
         }
         status

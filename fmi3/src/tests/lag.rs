@@ -1,5 +1,6 @@
 //! Test model: a first-order lag `tau y' = u - y`, stepped exactly for an input held over the step,
-//! with fault injection (`fault_mode`: 1 panics in doStep once past `fault_time`, 2 discards there).
+//! with fault injection (`fault_mode`: 1 panics in doStep once past `fault_time`, 2 discards there,
+//! 3 discards there after half the step).
 
 use fmi2::{DefaultExperiment, Log, Model, ModelInfo, StepInputs, StepOutcome, Store, Variable};
 
@@ -59,9 +60,9 @@ impl Model for Lag {
                     "fault_mode",
                     vr::FAULT_MODE,
                     0,
-                    "0 none, 1 panic, 2 discard",
+                    "0 none, 1 panic, 2 discard, 3 discard half-way",
                 )
-                .range(Some(0.0), Some(2.0)),
+                .range(Some(0.0), Some(3.0)),
                 Variable::integer_output("steps", vr::STEPS, "completed steps"),
                 Variable::boolean_parameter("frozen", vr::FROZEN, false, "hold the output"),
             ],
@@ -102,6 +103,16 @@ impl Model for Lag {
             return StepOutcome::Discard {
                 reason: "injected discard".into(),
                 reached_time: t,
+            };
+        }
+        // Half the step done, then a discard (as the films stop at their last good sub-step).
+        if self.fault_mode == 3 && t + h > self.fault_time_s {
+            self.u = inputs.real_at(vr::U, t + h / 2.0);
+            self.y = Lag::exact(self.y, self.u, self.tau_s, h / 2.0);
+            self.steps += 1;
+            return StepOutcome::Discard {
+                reason: "injected discard half-way".into(),
+                reached_time: t + h / 2.0,
             };
         }
         // Without intermediate update the layer holds inputs over the step: value at t, zero

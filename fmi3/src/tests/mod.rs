@@ -1,6 +1,7 @@
 //! Tests through the exported C functions, with a small test model (`lag`).
 
 mod api;
+mod early_return;
 mod fmu;
 mod intermediate;
 mod lag;

@@ -32,6 +32,7 @@ fn description_is_well_formed_and_matches_fmi2() {
         ("canSerializeFMUState", "true"),
         ("providesIntermediateUpdate", "true"),
         ("canReturnEarlyAfterIntermediateUpdate", "false"),
+        ("mightReturnEarlyFromDoStep", "true"),
         ("hasEventMode", "false"),
         ("maxOutputDerivativeOrder", "1"),
     ] {
