@@ -5,8 +5,11 @@
 //! - `descriptions`    regenerate modelDescriptions/*.xml from the variable tables (`--check`: compare only)
 //! - `test`            everything CI runs: fmt, clippy, docs, fmus, descriptions --check, cargo test, pytest
 //! - `runup [ARGS]`    build the FMUs and the master, then `airring runup ARGS` (default: the path-1 run-up)
-//! - `bench`           the benchmarks of the hot loops (medians)
+//! - `bench`           the benchmarks of the hot loops (medians), then the run-up benchmark
+//! - `bench runup [--preset P] [--stop S] [--runs N] [--load] [--fmu-dir D]`: the whole run-up,
+//!   medians of wall time, macro steps, time in each FMU and the master's share (`bench.rs`)
 
+mod bench;
 mod pack;
 
 use std::path::{Path, PathBuf};
@@ -149,9 +152,17 @@ fn main() -> ExitCode {
         Some("descriptions") => pack::descriptions(args.iter().any(|a| a == "--check")),
         Some("test") => test(),
         Some("runup") => runup(&args[1..]),
-        Some("bench") => run("bench", cargo().args(["bench", "--workspace"])),
+        Some("bench") => match args.get(1).map(String::as_str) {
+            Some("runup") => {
+                bench::Options::parse(&args[2..]).and_then(|o| bench::runup(&o))
+            }
+            None => run("bench", cargo().args(["bench", "--workspace"])).and_then(|_| {
+                bench::Options::parse(&[]).and_then(|o| bench::runup(&o))
+            }),
+            Some(other) => Err(format!("bench: unknown argument '{other}' (bench [runup ...])")),
+        },
         _ => Err(
-            "usage: cargo xtask fmus [--glibc V] | descriptions [--check] | test | runup [ARGS] | bench".into(),
+            "usage: cargo xtask fmus [--glibc V] | descriptions [--check] | test | runup [ARGS] | bench [runup [--preset P] [--stop S] [--runs N] [--load] [--fmu-dir D]]".into(),
         ),
     };
     match result {
