@@ -219,3 +219,54 @@ pub fn runup(o: &Options) -> Result<(), String> {
     );
     Ok(())
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{median, Options};
+
+    fn args(a: &[&str]) -> Vec<String> {
+        a.iter().map(|s| s.to_string()).collect()
+    }
+
+    #[test]
+    fn options_default_to_a_short_path1_run_up_and_refuse_bad_values() {
+        let o = Options::parse(&[]).unwrap();
+        assert_eq!(
+            (o.preset.as_str(), o.stop_s, o.runs, o.load),
+            ("path1", 0.3, 3, false)
+        );
+        let o = Options::parse(&args(&[
+            "--preset",
+            "path2a",
+            "--stop",
+            "1.5",
+            "--runs",
+            "5",
+            "--load",
+            "--fmu-dir",
+            "d",
+        ]))
+        .unwrap();
+        assert_eq!(
+            (o.preset.as_str(), o.stop_s, o.runs, o.load),
+            ("path2a", 1.5, 5, true)
+        );
+        assert_eq!(o.fmu_dir.as_deref(), Some("d"));
+        for (bad, says) in [
+            (&["--stop", "-1"][..], "--stop -1"),
+            (&["--stop", "nan"][..], "--stop nan"),
+            (&["--runs", "0"][..], "--runs 0"),
+            (&["--runs"][..], "--runs expects a value"),
+            (&["--fast"][..], "unknown argument '--fast'"),
+        ] {
+            let e = Options::parse(&args(bad)).err().unwrap();
+            assert!(e.contains(says), "{e}");
+        }
+    }
+
+    #[test]
+    fn median_of_odd_and_even_counts() {
+        assert_eq!(median(vec![3.0, 1.0, 2.0]), 2.0);
+        assert_eq!(median(vec![4.0, 1.0, 3.0, 2.0]), 2.5);
+    }
+}
