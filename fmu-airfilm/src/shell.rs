@@ -94,6 +94,35 @@ impl Clone for AirFilmFmu {
     }
 }
 
+impl AirFilmFmu {
+    /// The film's scaled nodal pressures p / p_a (the master's full-state orbit search reads them
+    /// in a deserialized FMU state).
+    pub fn pressures_rel(&self) -> &[f64] {
+        self.film.pressures_rel()
+    }
+
+    /// Per entry of `pressures_rel`: a node held at ambient pressure (Dirichlet boundary), not
+    /// a state of the film's dynamics.
+    pub fn fixed_nodes(&self) -> Vec<bool> {
+        let mesh = self.film.mesh();
+        (0..mesh.n_blocks * mesh.npb)
+            .map(|i| mesh.dirichlet[i % mesh.npb])
+            .collect()
+    }
+
+    /// Restarts the film at its current time and journal state with the pressures `p_rel`
+    /// (first-order steps again, outputs of the new field, no output derivative history).
+    pub fn restart_with_pressures(&mut self, p_rel: &[f64]) -> Result<(), String> {
+        let journal = self.film.journal();
+        self.film
+            .set_pressures_rel(self.time_s, journal, p_rel)
+            .map_err(|e| e.to_string())?;
+        self.outputs = self.film.outputs();
+        self.previous = None;
+        Ok(())
+    }
+}
+
 /// The film parameters from the FMU's variable values (also used by `airring orbit`, which drives
 /// the library with exactly the FMU's parameter mapping).
 pub fn params_from(store: &Store) -> BearingParams {
@@ -363,6 +392,48 @@ mod tests {
     impl Log for NoLog {
         fn debug(&mut self, _category: &str, _message: &str) {}
         fn warning(&mut self, _message: &str) {}
+    }
+
+    /// The full-state orbit search's restart: the fixed nodes are the ambient-pressure boundary,
+    /// a restart with the film's own field keeps its forces, another field gives its forces, and
+    /// a field of the wrong length or with a non-positive pressure is refused.
+    #[test]
+    fn a_restart_with_pressures_gives_that_fields_outputs() {
+        let info = AirFilmFmu::info();
+        let mut store = Store::from_info(&info);
+        store.integers[vr::N_ELEM_PHI as usize] = 8;
+        store.integers[vr::N_ELEM_Z as usize] = 2;
+        store.reals[vr::OMEGA as usize] = std::f64::consts::TAU * 1000.0;
+        store.reals[vr::DY as usize] = -0.3 * store.reals[vr::C as usize];
+        store.booleans[vr::START_STEADY as usize] = true;
+        let mut m = AirFilmFmu::new(&store, 0.0, &mut NoLog).unwrap();
+        let fixed = m.fixed_nodes();
+        let p0 = m.pressures_rel().to_vec();
+        assert_eq!(fixed.len(), p0.len());
+        assert!(fixed.iter().any(|f| *f) && fixed.iter().any(|f| !*f));
+        for (p, f) in p0.iter().zip(&fixed) {
+            if *f {
+                assert!(
+                    (p - 1.0).abs() < 1e-12,
+                    "a boundary node holds ambient pressure: {p}"
+                );
+            }
+        }
+        let before = m.outputs;
+        m.restart_with_pressures(&p0).unwrap();
+        assert_eq!(m.outputs, before);
+        assert!(m.previous.is_none());
+        // Ambient everywhere: no load.
+        m.restart_with_pressures(&vec![1.0; p0.len()]).unwrap();
+        assert!(
+            m.outputs.fx_n.abs() < 1e-9 && m.outputs.fy_n.abs() < 1e-9,
+            "{:?}",
+            m.outputs
+        );
+        assert!(m.restart_with_pressures(&p0[1..]).is_err());
+        let mut bad = p0.clone();
+        bad[0] = 0.0;
+        assert!(m.restart_with_pressures(&bad).is_err());
     }
 
     /// A step whose outputs would come out NaN or infinite (here: a film whose pressures overflow

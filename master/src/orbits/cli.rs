@@ -18,6 +18,11 @@ pub struct OrbitsArgs {
     /// Only the orbits at the given speeds: no continuation of the branch.
     #[arg(long)]
     pub no_continuation: bool,
+    /// Shoot on the full state (the rotor and both films' pressure fields) by Newton-Krylov,
+    /// at the given speeds only (no continuation), instead of the reduced shooting in the
+    /// rotor's coordinates with the films relaxed onto the orbit.
+    #[arg(long)]
+    pub full_state: bool,
     /// A run-up folder whose eccentricity envelope the bifurcation diagram shows beside the
     /// orbits.
     #[arg(long)]
@@ -47,7 +52,8 @@ pub fn run_cli(args: &OrbitsArgs, fmu_dir: PathBuf) -> Result<(), String> {
         settings,
         speeds_hz,
         settle_s: args.settle,
-        continuation: !args.no_continuation,
+        continuation: !args.no_continuation && !args.full_state,
+        full_state: args.full_state,
         fmu_dir,
         out_dir: args.out.clone(),
     };

@@ -16,6 +16,7 @@ use super::shooting::Flow;
 use crate::runup::RunupSettings;
 use cosim::algorithm::{AlgorithmState, CoSim};
 use fmi2::model::{Model, Store};
+use fmu_airfilm::shell::AirFilmFmu;
 use fmu_rotor::rotor::LATERAL_COORDS;
 use fmu_rotor::shell::RotorFmu;
 use std::path::Path;
@@ -29,6 +30,10 @@ pub struct RotorFilmFlow {
     films: [usize; 2],
     rotor_guid: String,
     rotor_shape: Store,
+    /// GUIDs of the film FMUs (C, T) and a store of the film's variable table, for decoding
+    /// their FMU states (the full-state shooting sets their pressure fields).
+    film_guids: [String; 2],
+    film_shape: Store,
     base: (AlgorithmState, Vec<Vec<u8>>),
     speed_hz: f64,
     macro_step_s: f64,
@@ -49,6 +54,18 @@ pub struct OrbitMeasures {
     pub whirl_amplitude: [f64; 2],
     /// Smallest film thickness per bearing [m].
     pub h_min_m: [f64; 2],
+}
+
+/// The measures as the orbit records name them.
+pub fn measures_list(m: &OrbitMeasures) -> Vec<(String, f64)> {
+    vec![
+        ("max_eps_C".into(), m.max_eps[0]),
+        ("max_eps_T".into(), m.max_eps[1]),
+        ("whirl_amplitude_C".into(), m.whirl_amplitude[0]),
+        ("whirl_amplitude_T".into(), m.whirl_amplitude[1]),
+        ("h_min_C_m".into(), m.h_min_m[0]),
+        ("h_min_T_m".into(), m.h_min_m[1]),
+    ]
 }
 
 /// Refuses a rotor with an imbalance: it is forced at its spin frequency, so its whirls are
@@ -97,12 +114,16 @@ impl RotorFilmFlow {
         };
         let rotor = find("rotor")?;
         let films = [find("film_C")?, find("film_T")?];
-        let rotor_guid = built
-            .guids
-            .iter()
-            .find(|(n, _)| n == "rotor")
-            .map(|(_, g)| g.clone())
-            .ok_or("no GUID for the rotor")?;
+        let guid = |name: &str| {
+            built
+                .guids
+                .iter()
+                .find(|(n, _)| n == name)
+                .map(|(_, g)| g.clone())
+                .ok_or_else(|| format!("no GUID for {name}"))
+        };
+        let rotor_guid = guid("rotor")?;
+        let film_guids = [guid("film_C")?, guid("film_T")?];
         let params = s.film_params()?;
         let clearance_m = [params[0].bore.c_m, params[1].bore.c_m];
         let c = clearance_m[0].min(clearance_m[1]);
@@ -126,6 +147,8 @@ impl RotorFilmFlow {
             films,
             rotor_guid,
             rotor_shape: Store::from_info(&RotorFmu::info()),
+            film_guids,
+            film_shape: Store::from_info(&AirFilmFmu::info()),
             base,
             speed_hz,
             macro_step_s: built.macro_step_s,
@@ -267,10 +290,71 @@ impl RotorFilmFlow {
 
     /// Restores the base with the rotor at `x0` (spinning at the current speed).
     fn start_from(&mut self, x0: &[f64]) -> Result<(), String> {
+        self.start_with(x0, None)
+    }
+
+    /// The films' scaled pressure fields at the base point (C, T).
+    pub fn base_pressures(&self) -> Result<[Vec<f64>; 2], String> {
+        let read = |b: usize| -> Result<Vec<f64>, String> {
+            let blob = &self.base.1[self.films[b]];
+            Ok(self.decode_film(b, blob)?.pressures_rel().to_vec())
+        };
+        Ok([read(0)?, read(1)?])
+    }
+
+    /// Per film (C, T), which pressure entries are held at ambient (Dirichlet nodes).
+    pub fn fixed_pressure_nodes(&self) -> Result<[Vec<bool>; 2], String> {
+        let read = |b: usize| -> Result<Vec<bool>, String> {
+            Ok(self
+                .decode_film(b, &self.base.1[self.films[b]])?
+                .fixed_nodes())
+        };
+        Ok([read(0)?, read(1)?])
+    }
+
+    /// The films' pressure fields now (C, T).
+    pub fn pressures_now(&self) -> Result<[Vec<f64>; 2], String> {
+        let (_, blobs) = self.cosim.checkpoint().map_err(|e| e.to_string())?;
+        let read = |b: usize| -> Result<Vec<f64>, String> {
+            Ok(self
+                .decode_film(b, &blobs[self.films[b]])?
+                .pressures_rel()
+                .to_vec())
+        };
+        Ok([read(0)?, read(1)?])
+    }
+
+    fn decode_film(&self, b: usize, blob: &[u8]) -> Result<AirFilmFmu, String> {
+        let core =
+            fmi2::snapshot::deserialize::<AirFilmFmu>(blob, &self.film_guids[b], &self.film_shape)?;
+        core.model
+            .ok_or_else(|| "a film's FMU state holds no model".to_string())
+    }
+
+    /// Restores the base with the rotor at `x0` and, if given, the films restarted with these
+    /// pressure fields (C, T).
+    pub fn start_with(&mut self, x0: &[f64], pressures: Option<[&[f64]; 2]>) -> Result<(), String> {
         let lateral: [f64; N_LATERAL] = x0
             .try_into()
             .map_err(|_| format!("a lateral state has {N_LATERAL} values, not {}", x0.len()))?;
         let (state, mut blobs) = self.base.clone();
+        if let Some(p) = pressures {
+            for b in 0..2 {
+                let blob = &blobs[self.films[b]];
+                let mut core = fmi2::snapshot::deserialize::<AirFilmFmu>(
+                    blob,
+                    &self.film_guids[b],
+                    &self.film_shape,
+                )?;
+                let model = core
+                    .model
+                    .as_mut()
+                    .ok_or("a film's FMU state holds no model")?;
+                model.restart_with_pressures(p[b])?;
+                model.write_outputs(&mut core.store);
+                blobs[self.films[b]] = fmi2::snapshot::serialize(&core, &self.film_guids[b]);
+            }
+        }
         let mut core = fmi2::snapshot::deserialize::<RotorFmu>(
             &blobs[self.rotor],
             &self.rotor_guid,
@@ -308,7 +392,18 @@ impl RotorFilmFlow {
 
     /// The measures of the orbit through `x0` over one period.
     pub fn orbit_measures(&mut self, x0: &[f64], period_s: f64) -> Result<OrbitMeasures, String> {
-        self.start_from(x0)?;
+        self.orbit_measures_with(x0, None, period_s)
+    }
+
+    /// The measures of the orbit through the rotor state `x0` and, if given, the films'
+    /// pressure fields (C, T) over one period.
+    pub fn orbit_measures_with(
+        &mut self,
+        x0: &[f64],
+        pressures: Option<[&[f64]; 2]>,
+        period_s: f64,
+    ) -> Result<OrbitMeasures, String> {
+        self.start_with(x0, pressures)?;
         let t0 = self.base.0.t_s;
         let mut pts: Vec<[f64; 4]> = vec![];
         let mut h_min = [f64::INFINITY; 2];
@@ -359,12 +454,28 @@ impl Flow for RotorFilmFlow {
     fn scale(&self) -> Vec<f64> {
         self.scale.clone()
     }
+    /// On the fixed macro grid (`states_at`).
+    fn flow(&mut self, x0: &[f64], at_s: &[f64]) -> Result<Vec<Vec<f64>>, String> {
+        self.start_from(x0)?;
+        self.states_at(at_s, &Self::lateral_state)
+    }
+
+    fn measures(&mut self, x0: &[f64], period_s: f64) -> Result<Vec<(String, f64)>, String> {
+        Ok(measures_list(&self.orbit_measures(x0, period_s)?))
+    }
+}
+
+impl RotorFilmFlow {
+    /// From the start just restored, the states `read` gives at the times `at_s` after the base.
     /// The macro steps lie on the grid t0 + k H whatever times are asked for: a time between two
     /// grid points is reached by one shorter step from a saved state, which is then restored.
     /// So phi_t(x0) is one function of (x0, t), whichever other times the same call asks for
     /// (the finite differences of the shooting compare flows of different calls).
-    fn flow(&mut self, x0: &[f64], at_s: &[f64]) -> Result<Vec<Vec<f64>>, String> {
-        self.start_from(x0)?;
+    pub fn states_at(
+        &mut self,
+        at_s: &[f64],
+        read: &dyn Fn(&Self) -> Result<Vec<f64>, String>,
+    ) -> Result<Vec<Vec<f64>>, String> {
         let t0 = self.base.0.t_s;
         let h = self.macro_step_s;
         let mut out = Vec::with_capacity(at_s.len());
@@ -372,29 +483,18 @@ impl Flow for RotorFilmFlow {
             let k = ((t / h) * (1.0 + 1e-12)).floor();
             self.step_to(t0 + k * h)?;
             if t - k * h <= 1e-12 * h.max(t) {
-                out.push(self.lateral_state()?);
+                out.push(read(self)?);
                 continue;
             }
             let (state, blobs) = self.cosim.checkpoint().map_err(|e| e.to_string())?;
             self.cosim.step(t - k * h).map_err(|e| e.to_string())?;
             self.macro_steps += 1;
-            out.push(self.lateral_state()?);
+            out.push(read(self)?);
             self.cosim
                 .restore_checkpoint(state, &blobs)
                 .map_err(|e| e.to_string())?;
         }
         Ok(out)
-    }
-    fn measures(&mut self, x0: &[f64], period_s: f64) -> Result<Vec<(String, f64)>, String> {
-        let m = self.orbit_measures(x0, period_s)?;
-        Ok(vec![
-            ("max_eps_C".into(), m.max_eps[0]),
-            ("max_eps_T".into(), m.max_eps[1]),
-            ("whirl_amplitude_C".into(), m.whirl_amplitude[0]),
-            ("whirl_amplitude_T".into(), m.whirl_amplitude[1]),
-            ("h_min_C_m".into(), m.h_min_m[0]),
-            ("h_min_T_m".into(), m.h_min_m[1]),
-        ])
     }
 }
 

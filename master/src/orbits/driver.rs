@@ -16,7 +16,9 @@ use super::continuation::{
     Criticality,
 };
 use super::cosim_flow::RotorFilmFlow;
-use super::shooting::{shoot, PeriodicOrbit, ShootingOptions};
+use super::full_state::FullStateFlow;
+use super::krylov::{shoot_krylov, KrylovOptions};
+use super::shooting::{shoot, Flow, PeriodicOrbit, ShootingOptions};
 use crate::runup::RunupSettings;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
@@ -29,6 +31,8 @@ pub struct OrbitsRequest {
     pub settle_s: f64,
     /// Continue the branch from the highest stable orbit (else only the orbits per speed).
     pub continuation: bool,
+    /// Shoot on the full state by Newton-Krylov (else the reduced shooting).
+    pub full_state: bool,
     pub fmu_dir: PathBuf,
     pub out_dir: PathBuf,
 }
@@ -95,6 +99,10 @@ pub struct OrbitsReport {
     pub preset: String,
     pub speeds_hz: Vec<f64>,
     pub settle_s: f64,
+    /// How the orbits were shot: "reduced" (the rotor's lateral state, the films relaxed onto
+    /// the orbit) or "full state, Newton-Krylov".
+    #[serde(default)]
+    pub shooting: String,
     /// The linear threshold speed (`airring stability`) [Hz], if the equilibrium turns unstable
     /// within 10 .. 2000 Hz.
     pub linear_threshold_hz: Option<f64>,
@@ -209,6 +217,34 @@ pub fn shoot_relaxed(
     Ok(orbit)
 }
 
+/// Newton-Krylov shooting on the full state from the base point; the orbit keeps the lateral
+/// part of its start state, its measures are those of the full-state orbit.
+pub fn shoot_full_state(
+    flow: &mut RotorFilmFlow,
+    period_s: f64,
+    opts: &ShootingOptions,
+) -> Result<(PeriodicOrbit, Vec<(String, f64)>), String> {
+    let mut full = FullStateFlow::new(flow)?;
+    let x0 = full.base_state()?;
+    let kopts = KrylovOptions {
+        // Finite differences of 1e-3 of the scales (a thousandth of the clearance, 100 Pa): the
+        // products' noise from the films' error control (atol 10 Pa) stays small beside them.
+        // 1e-4 stalls (path 2a at 520 Hz: defect 1e-3 at the first Newton step).
+        shooting: ShootingOptions {
+            fd_rel: 1e-3,
+            ..*opts
+        },
+        gmres_rel_tol: 1e-3,
+        max_krylov: 80,
+        ritz_steps: 20,
+    };
+    let found = shoot_krylov(&mut full, &x0, period_s, &kopts)?;
+    let measures = full.measures(&found.orbit.x0, found.orbit.period_s)?;
+    let mut orbit = found.orbit;
+    orbit.x0.truncate(super::cosim_flow::N_LATERAL);
+    Ok((orbit, measures))
+}
+
 pub fn find_orbits(
     req: &OrbitsRequest,
     progress: &mut dyn FnMut(&str),
@@ -231,6 +267,11 @@ pub fn find_orbits(
         preset: req.settings.preset.clone(),
         speeds_hz: req.speeds_hz.clone(),
         settle_s: req.settle_s,
+        shooting: if req.full_state {
+            "full state, Newton-Krylov".into()
+        } else {
+            "reduced".into()
+        },
         linear_threshold_hz: linear,
         settled: vec![],
         orbits: vec![],
@@ -247,7 +288,7 @@ pub fn find_orbits(
         progress(&format!("{speed:.1} Hz: settling for {} s", req.settle_s));
         let system_file = req.out_dir.join(format!("system-{speed}Hz.toml"));
         let mut flow = RotorFilmFlow::new(&req.settings, &req.fmu_dir, speed, &system_file)?;
-        let settled = settle_and_shoot(&mut flow, req.settle_s, &opts);
+        let settled = settle_and_shoot(&mut flow, req.settle_s, &opts, req.full_state);
         report.flows += flow.flows;
         report.macro_steps += flow.macro_steps;
         match settled {
@@ -404,6 +445,7 @@ fn settle_and_shoot(
     flow: &mut RotorFilmFlow,
     settle_s: f64,
     opts: &ShootingOptions,
+    full_state: bool,
 ) -> Result<(SettledRecord, Option<(PeriodicOrbit, Vec<(String, f64)>)>), String> {
     let speed = flow.speed_hz();
     let window = 0.1 * settle_s;
@@ -471,10 +513,14 @@ fn settle_and_shoot(
     flow.move_base_to_quietest(period)?;
     let x0 = flow.base_lateral_state()?;
     // A shooting that fails keeps what the simulation showed, with the reason.
-    let shot = shoot_relaxed(flow, &x0, period, opts).and_then(|orbit| {
-        let measures = super::shooting::Flow::measures(flow, &orbit.x0, orbit.period_s)?;
-        Ok((orbit, measures))
-    });
+    let shot = if full_state {
+        shoot_full_state(flow, period, opts)
+    } else {
+        shoot_relaxed(flow, &x0, period, opts).and_then(|orbit| {
+            let measures = super::shooting::Flow::measures(flow, &orbit.x0, orbit.period_s)?;
+            Ok((orbit, measures))
+        })
+    };
     match shot {
         Ok(found) => Ok((rec, Some(found))),
         Err(e) => {

@@ -7,8 +7,12 @@ pub mod continuation;
 pub mod cosim_flow;
 pub mod driver;
 pub mod figure;
+pub mod full_state;
+pub mod krylov;
 pub mod normal_form;
 pub mod shooting;
 
+#[cfg(test)]
+mod krylov_tests;
 #[cfg(test)]
 mod tests;

@@ -92,6 +92,25 @@ impl PeriodicOrbit {
         }
     }
 
+    /// An orbit whose monodromy matrix was never formed (Newton-Krylov): its multipliers are
+    /// given (the leading ones, largest modulus first); `monodromy` is empty.
+    pub fn with_multipliers(
+        x0: Vec<f64>,
+        period_s: f64,
+        multipliers: Vec<Complex<f64>>,
+        iterations: usize,
+        residual: f64,
+    ) -> Self {
+        PeriodicOrbit {
+            x0,
+            period_s,
+            monodromy: DMatrix::zeros(0, 0),
+            multipliers,
+            iterations,
+            residual,
+        }
+    }
+
     /// The multipliers without the trivial one (the one nearest to 1 + 0i).
     pub fn nontrivial_multipliers(&self) -> Vec<Complex<f64>> {
         let one = Complex::new(1.0, 0.0);

@@ -200,6 +200,7 @@ fn bifurcation_diagram_dashes_the_unstable_orbits() {
         preset: "test".into(),
         speeds_hz: vec![470.0, 520.0],
         settle_s: 1.0,
+        shooting: "reduced".into(),
         linear_threshold_hz: Some(482.0),
         settled: vec![],
         orbits: vec![
