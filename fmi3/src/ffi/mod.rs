@@ -69,19 +69,22 @@ pub(crate) fn with_shell<M: Model>(
     match catch_unwind(AssertUnwindSafe(|| body(shell))) {
         Ok(s) => raw(s),
         Err(payload) => {
-            shell.stepping.set(false);
+            let reason = format!(
+                "internal error (panic caught): {}",
+                panic_message(&*payload)
+            );
+            // A call made from inside an intermediateUpdate callback: the step that is running
+            // holds the instance; the panic is logged after it (the stepping guard clears
+            // `stepping` when the step itself unwinds, before this handler runs).
+            if shell.stepping.get() {
+                refuse_while_stepping(shell, function, reason);
+                return FMI3_ERROR;
+            }
             // SAFETY: the closure that borrowed the instance has ended (it unwound), and no other
             // call is inside this instance (FMI 3.0: one call at a time, re-entry only in a step).
             let inst = unsafe { &mut *shell.instance.get() };
             inst.inner.core.phase = Phase::Error;
-            inst.reject(
-                Status::Error,
-                function,
-                &format!(
-                    "internal error (panic caught): {}",
-                    panic_message(&*payload)
-                ),
-            );
+            inst.reject(Status::Error, function, &reason);
             FMI3_ERROR
         }
     }
