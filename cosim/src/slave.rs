@@ -5,7 +5,7 @@
 //! FMU's intermediate updates with the same input polynomials (see `fmi3::importer`), so a system
 //! of FMI 3.0 twins runs the same macro steps with the same inputs as its FMI 2.0 original.
 
-use fmi2::importer::{unpack, CallError, ImportError, LogHandler, ModelDescription};
+use fmi2::importer::{unpack_unless_folder, CallError, ImportError, LogHandler, ModelDescription};
 use std::path::Path;
 
 /// A loaded FMU.
@@ -28,14 +28,7 @@ fn fmi_version(xml: &str) -> Option<&str> {
 impl Fmu {
     /// Loads a `.fmu` archive or an unpacked folder of FMI 2.0 or 3.0, by its `fmiVersion`.
     pub fn load(path: &Path) -> Result<Fmu, ImportError> {
-        let unpacked = if path.is_dir() {
-            None
-        } else {
-            Some(unpack(path)?)
-        };
-        let dir = unpacked
-            .as_ref()
-            .map_or_else(|| path.to_path_buf(), |u| u.path().to_path_buf());
+        let (unpacked, dir) = unpack_unless_folder(path)?;
         let xml = std::fs::read_to_string(dir.join("modelDescription.xml")).map_err(|e| {
             ImportError(format!(
                 "{}: cannot read modelDescription.xml: {e}",

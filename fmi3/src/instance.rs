@@ -51,7 +51,7 @@ impl<M: Model> Shell<M> {
             early_return_allowed,
             intermediate_update,
             environment,
-            buffer: RefCell::new(Default::default()),
+            buffer: RefCell::new(crate::intermediate::Buffer::for_model(&instance.inner.info)),
             instance: UnsafeCell::new(instance),
         }
     }

@@ -31,13 +31,25 @@ pub struct Buffer {
 }
 
 impl Buffer {
+    /// A buffer for a model with these variables (which Reals are inputs is fixed per model).
+    pub(crate) fn for_model(info: &fmi2::ModelInfo) -> Self {
+        let mut is_input = vec![false; info.count(fmi2::VarType::Real)];
+        for v in &info.variables {
+            if v.var_type == fmi2::VarType::Real && v.causality == fmi2::Causality::Input {
+                is_input[v.vr as usize] = true;
+            }
+        }
+        Buffer {
+            is_input,
+            ..Default::default()
+        }
+    }
+
     /// Starts a step whose inputs hold `reals` at its start.
-    pub(crate) fn start(&mut self, reals: &[f64], is_input: impl Fn(usize) -> bool) {
+    pub(crate) fn start(&mut self, reals: &[f64]) {
         self.open = false;
         self.reals.clear();
         self.reals.extend_from_slice(reals);
-        self.is_input.clear();
-        self.is_input.extend((0..reals.len()).map(is_input));
         self.refused.clear();
     }
 

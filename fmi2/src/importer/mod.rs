@@ -11,7 +11,7 @@ mod slave;
 pub use archive::{unpack, UnpackedDir};
 pub use description::{ModelDescription, ScalarVariable, UnitInfo};
 pub use library::Api;
-pub use slave::{CallError, FmuState, LogHandler, LogRecord, Slave};
+pub use slave::{check, lossy, CallError, FmuState, LogHandler, LogRecord, Slave};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -26,6 +26,23 @@ impl std::fmt::Display for ImportError {
 }
 
 impl std::error::Error for ImportError {}
+
+/// An FMU's folder: `path` itself when it is an unpacked FMU, else a fresh temporary folder the
+/// archive is unpacked into (removed when the guard is dropped). Shared by both importers.
+pub fn unpack_unless_folder(path: &Path) -> Result<(Option<UnpackedDir>, PathBuf), ImportError> {
+    let unpacked = if path.is_dir() {
+        None
+    } else {
+        Some(unpack(path)?)
+    };
+    let dir = folder_of(path, unpacked.as_ref());
+    Ok((unpacked, dir))
+}
+
+/// The folder an FMU lives in: its unpacked copy, or `path` itself.
+pub fn folder_of(path: &Path, unpacked: Option<&UnpackedDir>) -> PathBuf {
+    unpacked.map_or_else(|| path.to_path_buf(), |u| u.path().to_path_buf())
+}
 
 /// A loaded FMU: its description and its shared library. Instances are created with `instantiate`.
 pub struct Fmu {
@@ -43,20 +60,14 @@ impl Fmu {
     /// Loads a `.fmu` archive (unpacked into a fresh temporary folder) or an unpacked FMU folder.
     pub fn load(path: &Path) -> Result<Fmu, ImportError> {
         // A failed (or panicking) load drops the guard: nothing stays in the temporary folder.
-        let unpacked = if path.is_dir() {
-            None
-        } else {
-            Some(unpack(path)?)
-        };
+        let (unpacked, _) = unpack_unless_folder(path)?;
         Self::from_unpacked(path, unpacked)
     }
 
     /// An FMU already unpacked (by `unpack`, e.g. to read its FMI version first), or the folder
     /// `path` itself when `unpacked` is `None`.
     pub fn from_unpacked(path: &Path, unpacked: Option<UnpackedDir>) -> Result<Fmu, ImportError> {
-        let dir = unpacked
-            .as_ref()
-            .map_or_else(|| path.to_path_buf(), |u| u.path().to_path_buf());
+        let dir = folder_of(path, unpacked.as_ref());
         let (description, api) = Self::open_unpacked(path, &dir)?;
         Ok(Fmu {
             path: path.to_path_buf(),

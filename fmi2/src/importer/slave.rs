@@ -37,7 +37,12 @@ extern "C" {
     fn free(p: *mut c_void);
 }
 
-unsafe fn lossy(s: Fmi2String) -> String {
+/// A C string from an FMU as owned text (lossy UTF-8; empty for null). Shared with the FMI 3.0
+/// importer.
+///
+/// # Safety
+/// `s` is null or NUL-terminated.
+pub unsafe fn lossy(s: Fmi2String) -> String {
     if s.is_null() {
         String::new()
     } else {
@@ -93,7 +98,8 @@ impl std::fmt::Display for CallError {
 
 impl std::error::Error for CallError {}
 
-fn check(function: &'static str, raw: Fmi2StatusRaw) -> Result<(), CallError> {
+/// A raw status as a result (FMI 2.0 and 3.0 number their statuses alike).
+pub fn check(function: &'static str, raw: Fmi2StatusRaw) -> Result<(), CallError> {
     match Status::from_raw(raw) {
         Some(Status::Ok | Status::Warning) => Ok(()),
         Some(status) => Err(CallError { function, status }),

@@ -19,7 +19,6 @@ use crate::intermediate::CallbackInputs;
 use crate::state;
 use crate::types::*;
 use fmi2::instance::Phase;
-use fmi2::variables::{Causality, VarType};
 use fmi2::{IntermediateInputs, Model, Status};
 use std::cell::Cell;
 
@@ -97,18 +96,10 @@ pub unsafe fn do_step<M: Model>(
         let status = match shell.intermediate_update {
             None => inst.run(F, state::MASK_DO_STEP, |i| step(i, None)),
             Some(callback) => {
-                let info = &inst.inner.info;
-                let is_input = |vr: usize| {
-                    info.variables.iter().any(|v| {
-                        v.var_type == VarType::Real
-                            && v.vr as usize == vr
-                            && v.causality == Causality::Input
-                    })
-                };
                 shell
                     .buffer
                     .borrow_mut()
-                    .start(&inst.inner.core.store.reals, is_input);
+                    .start(&inst.inner.core.store.reals);
                 let source = CallbackInputs {
                     callback,
                     environment: shell.environment,

@@ -14,7 +14,9 @@ pub use description::{parse, Fmi3Extras};
 pub use library::Api;
 pub use slave::{FmuState, Slave};
 
-use fmi2::importer::{unpack, ImportError, LogHandler, ModelDescription, UnpackedDir};
+use fmi2::importer::{
+    folder_of, unpack_unless_folder, ImportError, LogHandler, ModelDescription, UnpackedDir,
+};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -37,20 +39,14 @@ pub struct Fmu {
 impl Fmu {
     /// Loads a `.fmu` archive (unpacked into a fresh temporary folder) or an unpacked FMU folder.
     pub fn load(path: &Path) -> Result<Fmu, ImportError> {
-        let unpacked = if path.is_dir() {
-            None
-        } else {
-            Some(unpack(path)?)
-        };
+        let (unpacked, _) = unpack_unless_folder(path)?;
         Self::from_unpacked(path, unpacked)
     }
 
     /// An FMU already unpacked (by `fmi2::importer::unpack`, e.g. to read its version first), or
     /// the folder `path` itself when `unpacked` is `None`.
     pub fn from_unpacked(path: &Path, unpacked: Option<UnpackedDir>) -> Result<Fmu, ImportError> {
-        let dir = unpacked
-            .as_ref()
-            .map_or_else(|| path.to_path_buf(), |u| u.path().to_path_buf());
+        let dir = folder_of(path, unpacked.as_ref());
         let md_path = dir.join("modelDescription.xml");
         let xml = std::fs::read_to_string(&md_path).map_err(|e| {
             ImportError(format!(

@@ -9,23 +9,12 @@
 
 use super::library::Api;
 use crate::types::*;
-use fmi2::importer::{CallError, ImportError, LogHandler, LogRecord};
+use fmi2::importer::{check, lossy, CallError, ImportError, LogHandler, LogRecord};
 use fmi2::{Status, MAX_INPUT_DERIVATIVE_ORDER};
 use std::cell::{Cell, RefCell};
-use std::ffi::{c_char, c_void, CStr, CString};
+use std::ffi::{c_char, c_void, CString};
 use std::path::Path;
 use std::sync::Arc;
-
-fn check(function: &'static str, raw: fmi3Status) -> Result<(), CallError> {
-    match Status::from_raw(raw) {
-        Some(Status::Ok | Status::Warning) => Ok(()),
-        Some(status) => Err(CallError { function, status }),
-        None => Err(CallError {
-            function,
-            status: Status::Fatal,
-        }),
-    }
-}
 
 /// The input polynomials of the current step: per Float64 input, the value set last and the
 /// derivatives given for this step.
@@ -73,15 +62,6 @@ struct Env {
     failed: Cell<Option<Status>>,
     /// Intermediate updates answered since instantiation.
     updates: Cell<u64>,
-}
-
-unsafe fn lossy(s: fmi3String) -> String {
-    if s.is_null() {
-        String::new()
-    } else {
-        // SAFETY: the FMU passes NUL-terminated strings.
-        unsafe { CStr::from_ptr(s) }.to_string_lossy().into_owned()
-    }
 }
 
 unsafe extern "C" fn log_message(

@@ -14,7 +14,9 @@
 //! thousands of values costs tens of flows per Newton step. The Floquet multipliers come from an
 //! Arnoldi run on M at the converged orbit (Ritz values: the leading ones, largest modulus first).
 
-use super::shooting::{Flow, PeriodicOrbit, PhasePlane, ShootingOptions};
+use super::shooting::{
+    check_guess, defect, max_scaled, Flow, PeriodicOrbit, PhasePlane, ShootingOptions,
+};
 use nalgebra::{Complex, DMatrix};
 
 /// The Newton-Krylov policy: the shooting's options plus the Krylov solver's.
@@ -57,13 +59,6 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 
 fn norm(a: &[f64]) -> f64 {
     dot(a, a).sqrt()
-}
-
-fn max_scaled(v: &[f64], scale: &[f64]) -> f64 {
-    v.iter()
-        .zip(scale)
-        .map(|(a, s)| (a / s).abs())
-        .fold(0.0, f64::max)
 }
 
 /// M v in scaled coordinates (S^-1 M S v) by one flow: a directional difference whose largest
@@ -203,6 +198,23 @@ fn ritz_multipliers(m: &mut Monodromy, steps: usize) -> Result<Vec<Complex<f64>>
     Ok(super::shooting::multipliers_of(&square))
 }
 
+/// The orbit at (m.x0, m.period_s) with the Ritz values of its monodromy as multipliers.
+fn with_ritz_multipliers(
+    m: &mut Monodromy,
+    steps: usize,
+    iterations: usize,
+    residual: f64,
+) -> Result<PeriodicOrbit, String> {
+    let multipliers = ritz_multipliers(m, steps)?;
+    Ok(PeriodicOrbit::with_multipliers(
+        m.x0.to_vec(),
+        m.period_s,
+        multipliers,
+        iterations,
+        residual,
+    ))
+}
+
 /// Newton-Krylov shooting from (x0_guess, period_guess_s).
 pub fn shoot_krylov(
     flow: &mut dyn Flow,
@@ -211,17 +223,7 @@ pub fn shoot_krylov(
     opts: &KrylovOptions,
 ) -> Result<KrylovOrbit, String> {
     let n = flow.dim();
-    if x0_guess.len() != n {
-        return Err(format!(
-            "start state has {} values, the system {n}",
-            x0_guess.len()
-        ));
-    }
-    if !(period_guess_s > 0.0 && period_guess_s.is_finite()) {
-        return Err(format!(
-            "period guess {period_guess_s} s is not a positive time"
-        ));
-    }
+    check_guess(n, x0_guess, period_guess_s)?;
     let so = &opts.shooting;
     let scale = flow.scale();
     let t_ref = period_guess_s;
@@ -263,12 +265,11 @@ pub fn shoot_krylov(
             flows: 0,
         };
         if residual < so.tol && phase.abs() < so.tol {
-            let multipliers = ritz_multipliers(&mut m, opts.ritz_steps)?;
-            flows += m.flows;
+            let orbit = with_ritz_multipliers(&mut m, opts.ritz_steps, iter, residual)?;
             return Ok(KrylovOrbit {
-                orbit: PeriodicOrbit::with_multipliers(x0, period, multipliers, iter, residual),
+                orbit,
                 krylov_iterations,
-                flows,
+                flows: flows + m.flows,
             });
         }
         // The bordered system in scaled unknowns (u = dx / s, tau = dT / t_ref).
@@ -295,13 +296,8 @@ pub fn shoot_krylov(
             let trial_period = period + lambda * step[n] * t_ref;
             if trial_period > 0.0 {
                 flows += 1;
-                let m = flow
-                    .flow(&trial, &[trial_period])
-                    .map(|e| {
-                        let d: Vec<f64> = e[0].iter().zip(&trial).map(|(a, b)| a - b).collect();
-                        max_scaled(&d, &scale)
-                    })
-                    .unwrap_or(f64::INFINITY);
+                // A flow the FMUs refuse counts as a step too far (as in `shoot`).
+                let m = defect(flow, &trial, trial_period, &scale).map_or(f64::INFINITY, |d| d.1);
                 if m.is_finite() && m < residual {
                     x0 = trial;
                     period = trial_period;
@@ -321,18 +317,11 @@ pub fn shoot_krylov(
                         fd_rel: so.fd_rel,
                         flows: 0,
                     };
-                    let multipliers = ritz_multipliers(&mut m, opts.ritz_steps)?;
-                    flows += m.flows;
+                    let orbit = with_ritz_multipliers(&mut m, opts.ritz_steps, iter, residual)?;
                     return Ok(KrylovOrbit {
-                        orbit: PeriodicOrbit::with_multipliers(
-                            x0,
-                            period,
-                            multipliers,
-                            iter,
-                            residual,
-                        ),
+                        orbit,
                         krylov_iterations,
-                        flows,
+                        flows: flows + m.flows,
                     });
                 }
                 return Err(format!(

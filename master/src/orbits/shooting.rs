@@ -213,15 +213,32 @@ impl PhasePlane {
     }
 }
 
-fn max_scaled(v: &[f64], scale: &[f64]) -> f64 {
+/// Largest |v_i| / scale_i.
+pub(super) fn max_scaled(v: &[f64], scale: &[f64]) -> f64 {
     v.iter()
         .zip(scale)
         .map(|(a, s)| (a / s).abs())
         .fold(0.0, f64::max)
 }
 
+/// Refuses a first guess that does not fit the system or whose period is not a positive time.
+pub(super) fn check_guess(n: usize, x0_guess: &[f64], period_guess_s: f64) -> Result<(), String> {
+    if x0_guess.len() != n {
+        return Err(format!(
+            "start state has {} values, the system {n}",
+            x0_guess.len()
+        ));
+    }
+    if !(period_guess_s > 0.0 && period_guess_s.is_finite()) {
+        return Err(format!(
+            "period guess {period_guess_s} s is not a positive time"
+        ));
+    }
+    Ok(())
+}
+
 /// The scaled periodicity defect of (x0, T): one flow.
-fn defect(
+pub(super) fn defect(
     flow: &mut dyn Flow,
     x0: &[f64],
     period_s: f64,
@@ -242,17 +259,7 @@ pub fn shoot(
     opts: &ShootingOptions,
 ) -> Result<PeriodicOrbit, String> {
     let n = flow.dim();
-    if x0_guess.len() != n {
-        return Err(format!(
-            "start state has {} values, the system {n}",
-            x0_guess.len()
-        ));
-    }
-    if !(period_guess_s > 0.0 && period_guess_s.is_finite()) {
-        return Err(format!(
-            "period guess {period_guess_s} s is not a positive time"
-        ));
-    }
+    check_guess(n, x0_guess, period_guess_s)?;
     let scale = flow.scale();
     let t_ref = period_guess_s;
     let mut x0 = x0_guess.to_vec();
