@@ -363,6 +363,74 @@ fn checkpoint_resume_keeps_the_refinement_of_the_step_control() {
     );
 }
 
+/// The control relaxes only after `RELAX_AFTER` calm refined steps: a checkpoint taken in the
+/// middle of such a count keeps it (`calm_steps`), so the resumed run relaxes at the same step as
+/// the uninterrupted one; a checkpoint that forgot the count (as written before it existed)
+/// relaxes later and gives another series.
+#[test]
+fn checkpoint_resume_keeps_the_count_towards_the_next_relaxation() {
+    let dirs = ["calm-full", "calm-cut", "calm-forgot"].map(tmp);
+    // 2000 steps of 20 ms. Oscillator b starts swinging and a at rest; their weak coupling moves
+    // the energy to a and back over ~40 s, so the extrapolated b.x (a's input) needs sub-steps
+    // while b swings and falls below 1/8 of the tolerance while b is nearly at rest: the
+    // control refines, relaxes and refines again.
+    let text = with_control(
+        &coupled("gauss-seidel", 0.02, 1, 40.0)
+            .replace("interval = 40.0", "interval = 0.02")
+            .replacen("parameters = { x0 = \"1 m\" }\n", "", 1)
+            .replace(
+                "oscillator.fmu\"\n\n[[connection]]",
+                "oscillator.fmu\"\nparameters = { x0 = \"1 m\" }\n\n[[connection]]",
+            ),
+        0.0,
+        0.01,
+    );
+    let sys = dirs[0].join("input.toml");
+    std::fs::write(&sys, &text).unwrap();
+    let st = run(&sys, &RunConfig::new(&dirs[0]), false)
+        .unwrap()
+        .control
+        .unwrap();
+    // It refined, relaxed to the nominal step, and refined again.
+    assert!(st.rejected >= 2 && st.macro_steps_by_level[0] > 0, "{st:?}");
+    let mut halted_in_a_count = None;
+    for halt in [12.01, 14.01, 16.01, 18.01, 20.01, 22.01] {
+        for d in &dirs[1..] {
+            let _ = std::fs::remove_dir_all(d);
+            std::fs::create_dir_all(d).unwrap();
+            let o = RunConfig {
+                halt_at_s: Some(halt),
+                ..RunConfig::new(d)
+            };
+            assert!(run(&sys, &o, false).unwrap().interrupted);
+        }
+        let cp_path = dirs[2].join("checkpoint").join("master.json");
+        let mut cp: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&cp_path).unwrap()).unwrap();
+        if cp["refine_level"].as_u64().unwrap() > 0 && cp["calm_steps"].as_u64().unwrap() > 0 {
+            cp["calm_steps"] = 0.into();
+            std::fs::write(&cp_path, cp.to_string()).unwrap();
+            halted_in_a_count = Some(halt);
+            break;
+        }
+    }
+    let halt = halted_in_a_count.expect("no halt fell inside a count of calm steps");
+    for d in &dirs[1..] {
+        assert!(
+            run(&d.join("system.toml"), &RunConfig::new(d), true)
+                .unwrap()
+                .completed
+        );
+    }
+    let [full, kept, forgot] =
+        [0, 1, 2].map(|k| std::fs::read(dirs[k].join("timeseries.csv")).unwrap());
+    assert!(full == kept, "resumed at {halt} s, the series differs");
+    assert!(
+        full != forgot,
+        "a resume without the count gave the same series: the count is not what relaxes"
+    );
+}
+
 /// `restart_coupling_histories` (for a state set from outside the run): at t = 0 it changes
 /// nothing; mid-run it keeps one point per subsystem, read from the FMUs, and the polynomials
 /// build up again from there (first steps of order 0, then the configured order), so the

@@ -62,7 +62,9 @@ fn the_rotor_speed_follows_the_table() {
         );
         n += 1;
     }
-    assert!(n > 70, "{n} samples");
+    // One row per output interval from 0 to 4 ms, both ends included.
+    let rows = (0.004 / (master::runup::DEFAULT_OUTPUT_INTERVAL_US * 1e-6)).round() as usize + 1;
+    assert_eq!(n, rows, "{n} samples");
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(

@@ -171,7 +171,11 @@ fn smoke_study_runs_resumes_and_shards_merge() {
     let meta_path = full.join("runs/C20_dH40_c500_d50/sweep_run.json");
     let mut meta: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&meta_path).unwrap()).unwrap();
-    assert_eq!(meta["defaults"]["macro_step_us"], 20.0, "{meta}");
+    assert_eq!(
+        meta["defaults"]["macro_step_us"],
+        master::runup::DEFAULT_MACRO_STEP_US,
+        "{meta}"
+    );
     meta["defaults"]["macro_step_us"] = 10.0.into();
     std::fs::write(&meta_path, meta.to_string()).unwrap();
     let (ok, err) = airring(&["sweep", "studies/smoke.toml", "--out", full_s]);

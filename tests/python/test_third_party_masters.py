@@ -54,7 +54,7 @@ N_FILM = 200  # 2 ms
 
 # The coupled run-up: our master's Jacobi / zero-order hold, fixed macro step 20 us, coarse film mesh.
 RUNUP_FLAGS = ["--jacobi", "--extrapolation-order", "0", "--interpolation-order", "0", "--step-control", "off",
-               "--mesh", "8x2", "--stop", "0.002", "--output-interval", "20"]
+               "--mesh", "8x2", "--stop", "0.002", "--output-interval", "20", "--macro-step", "20"]
 H_RUNUP = 2e-5
 H_RUNUP_NS = 20_000
 N_RUNUP = 100

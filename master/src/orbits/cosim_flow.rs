@@ -68,6 +68,12 @@ pub fn measures_list(m: &OrbitMeasures) -> Vec<(String, f64)> {
     ]
 }
 
+/// Macro step of the period map [us]: fixed, whatever the run-up default (100 us since
+/// 2026-12-03, refined by the control). A flow restarts from saved states on a fixed macro
+/// grid; at 20 us the control never refines in the whirls shot so far, so phi_T stays one
+/// smooth function, and the orbits of docs/orbits.md were measured at it.
+pub const ORBIT_MACRO_STEP_US: f64 = 20.0;
+
 /// Refuses a rotor with an imbalance: it is forced at its spin frequency, so its whirls are
 /// not periodic orbits of an autonomous system.
 pub fn check_autonomous(settings: &RunupSettings) -> Result<(), String> {
@@ -100,6 +106,7 @@ impl RotorFilmFlow {
         s.speed_profile = vec![(0.0, speed_hz), (1.0, speed_hz)];
         s.disturbance_mn = 0.0;
         s.stop_time_s = 1e3;
+        s.macro_step_us = ORBIT_MACRO_STEP_US;
         let text = s.system_toml(&fmu_dir.display().to_string());
         std::fs::write(system_file, &text)
             .map_err(|e| format!("{}: {e}", system_file.display()))?;
