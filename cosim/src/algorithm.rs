@@ -14,8 +14,8 @@
 //! Macro-step control (optional, [`StepControl`]): after each step the extrapolated inputs are
 //! compared with the outputs the sources then produced at T_N+1. A difference above
 //! `atol + rtol |u|` rejects the step like a Discard (roll back, two halves). The refinement level
-//! reached is kept for the following macro steps and relaxed one level at a time once the error has
-//! stayed well below tolerance for `RELAX_AFTER` macro steps. This is what carries a journal through an impact on its ring: the contact
+//! reached is kept for the following macro steps and relaxed one level at a time once the error is
+//! well below tolerance. This is what carries a journal through an impact on its ring: the contact
 //! force (stiffness ~1e10 N/m against a ring of 50 g) cannot be coupled explicitly at 20 us, but
 //! is at ~1 us; steps without contact keep the nominal macro step.
 
@@ -25,7 +25,7 @@ use crate::parallel_choice::{Stepping, SteppingChoice, SteppingStats};
 use crate::polynomial::{taylor_derivatives, taylor_value};
 use crate::slave::Fmu;
 use crate::step_control::{
-    ControlStats, Refinement, StepControl, MAX_HALVINGS, SAVE_BURST_STEPS, SAVE_EVERY,
+    ControlStats, StepControl, MAX_HALVINGS, RELAX_BELOW, SAVE_BURST_STEPS, SAVE_EVERY,
 };
 use crate::subsystem::Subsystem;
 use fmi2::importer::CallError;
@@ -83,7 +83,7 @@ pub struct CoSim {
     retries: u64,
     timing: Timing,
     /// Current refinement: the macro step is covered by 2^level sub-steps.
-    refinement: Refinement,
+    level: u32,
     control_stats: ControlStats,
     /// Scratch: extrapolated inputs' predictions at T_N+1 as (source, slot, value).
     predicted: Vec<(usize, usize, f64)>,
@@ -121,8 +121,6 @@ pub struct AlgorithmState {
     pub histories: Vec<VecDeque<(f64, Vec<f64>)>>,
     /// Refinement level of the macro-step control.
     pub refine_level: u32,
-    /// Calm refined macro steps counted towards the next relaxation.
-    pub calm_steps: u32,
 }
 
 /// Where the master's own time goes (wall time), for the run summary.
@@ -188,7 +186,7 @@ impl CoSim {
             macro_steps: 0,
             retries: 0,
             timing: Timing::default(),
-            refinement: Refinement::default(),
+            level: 0,
             control_stats: ControlStats::default(),
             predicted: vec![],
             pool,
@@ -471,9 +469,9 @@ impl CoSim {
     /// (the FMUs are deterministic, so the replay is exact), and retries the failed interval in two
     /// halves, recursively. Under control, a refined level covers the step with 2^level sub-steps.
     pub fn step(&mut self, h: f64) -> Result<(), StepError> {
-        if self.config.control.is_some() && self.refinement.level > 0 {
+        if self.config.control.is_some() && self.level > 0 {
             let mut acc = Accepted::default();
-            self.cover(h, 0, self.refinement.level, &mut acc)?;
+            self.cover(h, 0, self.level, &mut acc)?;
             self.finish_refined(acc);
             self.macro_steps += 1;
             return Ok(());
@@ -542,14 +540,17 @@ impl CoSim {
     }
 
     /// After a refined macro step: keep the deepest level it needed, or relax by one level when
-    /// every sub-step of the last [`crate::step_control::RELAX_AFTER`] macro steps was well within tolerance.
+    /// every sub-step was well within tolerance.
     fn finish_refined(&mut self, acc: Accepted) {
         let st = &mut self.control_stats;
         st.refined_macro_steps += 1;
         st.deepest_level = st.deepest_level.max(acc.deepest);
         st.macro_steps_by_level[acc.deepest as usize] += 1;
         st.max_error_ratio = st.max_error_ratio.max(acc.worst);
-        self.refinement.after_refined(acc.worst, acc.deepest);
+        self.level = acc.deepest;
+        if acc.worst < RELAX_BELOW && self.level > 0 {
+            self.level -= 1;
+        }
         self.saved = None;
     }
 
@@ -648,8 +649,7 @@ impl CoSim {
         let state = AlgorithmState {
             t_s: self.t,
             histories: self.subs.iter().map(|s| s.history.clone()).collect(),
-            refine_level: self.refinement.level,
-            calm_steps: self.refinement.calm_steps,
+            refine_level: self.level,
         };
         Ok((state, states))
     }
@@ -724,8 +724,7 @@ impl CoSim {
             s.history = h;
         }
         self.t = t;
-        self.refinement.level = state.refine_level;
-        self.refinement.calm_steps = state.calm_steps;
+        self.level = state.refine_level;
         // A roll-back point saved before belongs to another course of the run.
         self.saved = None;
         Ok(())

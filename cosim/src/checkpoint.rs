@@ -32,10 +32,6 @@ pub struct MasterState {
     /// Refinement level of the macro-step control (0 in checkpoints written before it existed).
     #[serde(default)]
     pub refine_level: u32,
-    /// Calm refined macro steps counted towards the next relaxation (0 in checkpoints written
-    /// before it existed: the relaxation then waits its full count again).
-    #[serde(default)]
-    pub calm_steps: u32,
     /// The generation of the state files (`<instance>.<tag>.state`); None in checkpoints written
     /// before generations existed (`<instance>.state`).
     #[serde(default)]
@@ -125,7 +121,6 @@ impl MasterState {
             histories: state.histories.iter().map(encode_history).collect(),
             wall_before_s,
             refine_level: state.refine_level,
-            calm_steps: state.calm_steps,
             states_tag: None,
             state_checks: vec![],
             csv_check: None,
@@ -139,7 +134,6 @@ impl MasterState {
             t_s: f64::from_bits(self.t_bits),
             histories: self.histories.iter().map(|h| decode_history(h)).collect(),
             refine_level: self.refine_level,
-            calm_steps: self.calm_steps,
         }
     }
 }
@@ -317,7 +311,6 @@ mod tests {
             t_s: step as f64 * 1e-3,
             histories: vec![VecDeque::new(), VecDeque::new()],
             refine_level: 0,
-            calm_steps: 0,
         };
         MasterState::new(&state, step, step, 1.0)
     }

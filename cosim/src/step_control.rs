@@ -9,36 +9,6 @@ pub const MAX_HALVINGS: u32 = 6;
 /// keeps the error below 1/2 of the tolerance).
 pub(crate) const RELAX_BELOW: f64 = 0.125;
 
-/// Relax by one level only after this many consecutive refined macro steps whose error ratio
-/// stays below `RELAX_BELOW` (1/8). A whirl's coupling error peaks once per period: relaxing
-/// after one calm step (until 2026-12-03) switched levels every few steps in path 1's whirl at a 100 us macro step, and every
-/// switch changes the air films' BDF coefficient enough to refactor their Jacobians (film_C:
-/// 73 000 refreshes in 104 000 sub-steps; with this count, 41 000 in 85 000, docs/convergence.md).
-pub const RELAX_AFTER: u32 = 100;
-
-/// The macro-step control's refinement level (the macro step is covered by 2^level sub-steps)
-/// and the calm steps counted towards relaxing it.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub(crate) struct Refinement {
-    pub level: u32,
-    pub calm_steps: u32,
-}
-
-impl Refinement {
-    /// After a refined macro step whose sub-steps reached depth `deepest` (never above the
-    /// level they were started at) with largest error ratio `worst`: keep the deepest level,
-    /// and relax by one level after [`RELAX_AFTER`] calm steps in a row at it.
-    pub fn after_refined(&mut self, worst: f64, deepest: u32) {
-        let calm = deepest <= self.level && worst < RELAX_BELOW;
-        self.calm_steps = if calm { self.calm_steps + 1 } else { 0 };
-        self.level = deepest;
-        if self.calm_steps >= RELAX_AFTER && self.level > 0 {
-            self.level -= 1;
-            self.calm_steps = 0;
-        }
-    }
-}
-
 /// Macro steps with a state save at every step after a rejection or a Discard (see `save_burst`).
 pub(crate) const SAVE_BURST_STEPS: u64 = 1000;
 
@@ -84,73 +54,4 @@ pub struct ControlStats {
     pub rejected_work_macro_steps: f64,
     /// Macro steps by the deepest level they used (index 0: one sub-step, the nominal step).
     pub macro_steps_by_level: [u64; MAX_HALVINGS as usize + 1],
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn refinement_relaxes_one_level_after_relax_after_calm_steps_in_a_row() {
-        let mut r = Refinement::default();
-        // A rejection at the nominal step: the refined step needed level 2.
-        r.after_refined(0.5, 2);
-        assert_eq!(
-            r,
-            Refinement {
-                level: 2,
-                calm_steps: 0
-            }
-        );
-        for k in 1..RELAX_AFTER {
-            r.after_refined(0.01, 2);
-            assert_eq!(
-                r,
-                Refinement {
-                    level: 2,
-                    calm_steps: k
-                }
-            );
-        }
-        // One step above RELAX_BELOW restarts the count.
-        r.after_refined(RELAX_BELOW, 2);
-        assert_eq!(
-            r,
-            Refinement {
-                level: 2,
-                calm_steps: 0
-            }
-        );
-        for _ in 1..RELAX_AFTER {
-            r.after_refined(0.01, 2);
-        }
-        r.after_refined(0.01, 2);
-        assert_eq!(
-            r,
-            Refinement {
-                level: 1,
-                calm_steps: 0
-            }
-        );
-        // A sub-step that had to go deeper keeps the deeper level and restarts the count.
-        for _ in 0..RELAX_AFTER / 2 {
-            r.after_refined(0.01, 1);
-        }
-        r.after_refined(0.01, 3);
-        assert_eq!(
-            r,
-            Refinement {
-                level: 3,
-                calm_steps: 0
-            }
-        );
-        // Down to the nominal step, never below.
-        for _ in 0..10 * RELAX_AFTER {
-            let level = r.level;
-            r.after_refined(0.01, level);
-        }
-        assert_eq!(r.level, 0);
-        r.after_refined(0.01, 0);
-        assert_eq!(r.level, 0);
-    }
 }

@@ -584,17 +584,19 @@ pub const RECORDED: &[&str] = &[
 ];
 
 /// Default macro step and polynomial orders (see docs/convergence.md for the study behind them).
-/// 100 us since 2026-12-03 (20 us before): the macro-step control refines it where the coupling
-/// needs it (large whirls, impacts) and relaxes slowly; with the rotor's own step capped at
-/// [`ROTOR_MAX_STEP_US`] the onsets stay within 0.1 % of 20 us.
-pub const DEFAULT_MACRO_STEP_US: f64 = 100.0;
-/// Default interval of the recorded time series: one row per nominal macro step.
-pub const DEFAULT_OUTPUT_INTERVAL_US: f64 = 100.0;
+/// 100 us was measured on 2026-12-03 and not adopted: the same 42 Section 4 classes in 0.69x of
+/// the study's wall time, but weakly unstable whirls become visible early: C10/dH20/c1500/d50
+/// -6.7 %, path 2b -4.8 % against 10 us references (20 us: -0.03 %, +0.16 %).
+/// `--macro-step 100` remains for screening.
+pub const DEFAULT_MACRO_STEP_US: f64 = 20.0;
+/// Default interval of the recorded time series [us].
+pub const DEFAULT_OUTPUT_INTERVAL_US: f64 = 50.0;
 /// Largest internal step of the rotor FMU in a run-up [us] (its own default is 100 us). The
 /// rotor's error control cannot see a whirl of nanometres against an equilibrium of micrometres
-/// (atol 10 nm, rtol 1e-4), so its step is as long as it may be; at 100 us BDF2 damps the
-/// slowly growing whirl enough to delay path 2a's onset by 2.1 % (1.8287 -> 1.8677 s), at 20 us
-/// by 0.1 %. The rotor is ~5 % of a run-up's time (docs/convergence.md).
+/// (atol 10 nm, rtol 1e-4), so its step grows to the macro step; at a 100 us macro step BDF2
+/// damps the slowly growing whirl enough to delay path 2a's onset by 2.1 % (1.8287 -> 1.8677 s),
+/// with this cap by 0.1 %. At the 20 us default it changes nothing: the rotor never steps past
+/// a macro step (docs/convergence.md).
 pub const ROTOR_MAX_STEP_US: f64 = 20.0;
 /// Default air-film tolerances of a run-up [rtol, atol in Pa]: 10x looser than the FMU's own
 /// defaults, which changes the Section 3 onsets by < 1e-5 and eccentricities by < 0.2 % and
