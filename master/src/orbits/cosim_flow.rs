@@ -69,8 +69,9 @@ pub fn measures_list(m: &OrbitMeasures) -> Vec<(String, f64)> {
 }
 
 /// Macro step of the period map [us]: fixed, whatever the run-up default or `--macro-step`. A
-/// flow restarts from saved states on a fixed macro grid; at 20 us the control never refines in the whirls shot so far, so phi_T stays one
-/// smooth function, and the orbits of docs/orbits.md were measured at it.
+/// flow restarts from saved states on a fixed macro grid; at 20 us the control never refines in
+/// the whirls shot so far, so phi_T stays one smooth function, and the orbits of docs/orbits.md
+/// were measured at it.
 pub const ORBIT_MACRO_STEP_US: f64 = 20.0;
 
 /// Refuses a rotor with an imbalance: it is forced at its spin frequency, so its whirls are
