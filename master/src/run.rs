@@ -305,7 +305,7 @@ fn write_summary(
         Some(b) => Some(b.clone()),
         None => crate::run_folder::bores_of_run(&opts.out_dir)?,
     };
-    if let (Some(bores), true) = (&bores, rows.len() > 16) {
+    if let (Some(bores), true) = (&bores, !rows.is_empty()) {
         if let Some(series) = runup_series(recorded, rows, [bores[0].c_m, bores[1].c_m]) {
             let cl = classify(&series);
             summary.classification = Some(cl.class.as_str().to_string());

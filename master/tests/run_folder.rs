@@ -132,6 +132,31 @@ fn a_folder_holding_a_run_is_kept_until_a_new_run_has_started() {
     let _ = std::fs::remove_dir_all(dir.parent().unwrap());
 }
 
+/// A run of a few output rows (0.3 ms: 7 rows at 50 us) is classified too, as too short (it
+/// once had `classification: null` below 17 rows).
+#[test]
+fn a_run_of_a_few_output_rows_is_too_short_not_unclassified() {
+    let dir = tmp("few-rows");
+    let (ok, err) = airring(
+        &[
+            "runup",
+            "--stop",
+            "0.0003",
+            "--mesh",
+            "8x2",
+            "--quiet",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+        &[],
+    );
+    assert!(ok, "{err}");
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    assert_eq!(summary["classification"], "too_short", "{summary}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn a_run_shorter_than_the_persistence_window_is_too_short_to_classify() {
     let dir = tmp("short");

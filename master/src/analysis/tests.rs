@@ -328,3 +328,20 @@ fn classify_with_default_is_classify(s: &RunSeries) -> RunClass {
     assert_eq!(a, classify(s));
     a.class
 }
+
+/// A run of a handful of rows (a run-up stopped after a few output intervals) is `too_short`,
+/// never unclassified and never a panic: `run.rs` once classified only runs of more than 16
+/// rows and left shorter ones with `classification: null`.
+#[test]
+fn a_run_of_a_few_rows_is_too_short() {
+    for rows in 1..=20 {
+        let s = base(50e-6, (rows - 1) as f64 * 50e-6);
+        assert_eq!(s.len(), rows);
+        let cl = classify(&s);
+        assert_eq!(cl.class, RunClass::TooShort, "{rows} rows: {}", cl.criteria);
+        assert!(
+            cl.max_eps_c.is_finite() && cl.max_eps_t.is_finite(),
+            "{rows} rows"
+        );
+    }
+}
