@@ -103,6 +103,32 @@ enum Command {
         #[arg(long, default_value_t = 0.2)]
         delta: f64,
     },
+    /// Every cell of a study classified from its whirl orbits at constant speed (just past the
+    /// linear threshold and at the top speed) instead of a run-up; resumable
+    /// (orbit_classes.csv, orbit_classes.json, one folder per cell).
+    SweepOrbits {
+        /// Study file (TOML), as for `airring sweep`.
+        study: PathBuf,
+        /// Output folder.
+        #[arg(long)]
+        out: PathBuf,
+        /// Constant-speed simulation per speed before its whirl counts as settled [s].
+        #[arg(long, default_value_t = 1.0)]
+        settle: f64,
+        /// The first speed lies this fraction above the linear threshold.
+        #[arg(long, default_value_t = 0.1)]
+        above: f64,
+        /// Cells at once (default: one per core; each steps its films serially when > 1).
+        #[arg(long)]
+        jobs: Option<usize>,
+        /// A run-up sweep's study.csv to compare the classes with, cell by cell.
+        #[arg(long)]
+        compare: Option<PathBuf>,
+        /// Folder with rotor.fmu and airfilm.fmu (default: next to the executable, then
+        /// target/fmu).
+        #[arg(long)]
+        fmu_dir: Option<PathBuf>,
+    },
     /// Modal analysis of the rotor with linear film springs (paper Section 2.3).
     Modal {
         /// Rotor speed [Hz] (several: Campbell data).
@@ -560,6 +586,44 @@ fn main() -> ExitCode {
             let (path, text) = master::sweep::sensitivity::write(&dir, delta, &runs)?;
             print!("{text}");
             eprintln!("-> {}", path.display());
+            Ok(ExitCode::SUCCESS)
+        }
+        Command::SweepOrbits {
+            study,
+            out,
+            settle,
+            above,
+            jobs,
+            compare,
+            fmu_dir: dir,
+        } => {
+            let study = master::sweep::Study::load(&study)?;
+            let opts = master::orbits::study::SweepOrbitsOptions {
+                out,
+                settle_s: settle,
+                above,
+                jobs: jobs.unwrap_or_else(master::sweep::default_jobs),
+                compare,
+                fmu_dir: fmu_dir(dir)?,
+            };
+            let cells =
+                master::orbits::study::sweep_orbits(&study, &opts, &|line| eprintln!("{line}"))?;
+            let compared: Vec<_> = cells
+                .iter()
+                .filter_map(|c| c.runup_class.as_ref().map(|r| r == &c.class))
+                .collect();
+            eprintln!(
+                "{} cells -> {}",
+                cells.len(),
+                opts.out.join("orbit_classes.csv").display()
+            );
+            if !compared.is_empty() {
+                eprintln!(
+                    "orbit class = run-up class in {} of {} cells",
+                    compared.iter().filter(|a| **a).count(),
+                    compared.len()
+                );
+            }
             Ok(ExitCode::SUCCESS)
         }
         Command::Modal {

@@ -50,6 +50,17 @@ fn the_stable_orbit_has_the_settled_whirls_eccentricities() {
     }
     // A moderate whirl: inside the clearance, with film left.
     assert!(o.max_eps_c < 1.0 && o.max_eps_t < 1.0);
+    // The RMS whirl amplitude (the run-up classifier's measure) lies below the largest
+    // distance from the mean and is the path-2a size the classes expect (under 0.5 C).
+    for (rms, amp) in [
+        (settled.whirl_rms_c.unwrap(), o.whirl_amplitude_c),
+        (settled.whirl_rms_t.unwrap(), o.whirl_amplitude_t),
+    ] {
+        assert!(
+            rms > 0.05 && rms < amp && rms < 0.5,
+            "rms {rms} vs amplitude {amp}"
+        );
+    }
     assert!(o.h_min_c_um > 1.0 && o.h_min_t_um > 1.0);
     // orbits.json holds what the report says.
     let json: serde_json::Value =
@@ -237,5 +248,103 @@ fn the_branch_starts_at_the_linear_threshold() {
         }
     }
     assert!(branch.points.last().unwrap().size < 0.3 * size0);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `airring sweep-orbits` on cells the linear threshold decides (no threshold up to 2000 Hz:
+/// stable; a threshold of 138 Hz, below a tenth of the top speed: unstable at low speed), compared
+/// with a run-up table; a second call reads the cells back instead of computing them again, and
+/// bad input is refused with the value named.
+#[test]
+fn sweep_orbits_classes_cells_compares_them_and_resumes() {
+    let dir = common::tmp("orbits", "sweep");
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = dir.join("study.toml");
+    std::fs::write(
+        &study,
+        "name = \"two\"\n[fixed]\npreset = \"path1\"\nclearance = 15\nc = 1000\nd = 50\n\
+         [[grid]]\ndh = [0, 30]\nd = [50]\n",
+    )
+    .unwrap();
+    let table = dir.join("runups.csv");
+    std::fs::write(
+        &table,
+        "run,status,classification\ndH0_d50,completed,unstable_low_speed\ndH30_d50,completed,path1\n",
+    )
+    .unwrap();
+    let out = dir.join("out");
+    let (s, o, t, c) = (
+        study.to_str().unwrap(),
+        out.to_str().unwrap(),
+        table.to_str().unwrap(),
+        "--compare",
+    );
+    // dH = 30 um at d = 50 whirls (threshold 465 Hz): too long for a test; only dH = 0 is
+    // classified here, the other cell's folder is made to look done with a stable answer.
+    let done = out.join("cells/dH30_d50");
+    std::fs::create_dir_all(&done).unwrap();
+    std::fs::write(
+        done.join("cell.json"),
+        r#"{"run": "dH30_d50", "linear_threshold_hz": null, "linear_note": "test", "top_speed_hz": 2000.0,
+            "speeds_hz": [], "settled": [], "orbits": [], "elasticity": null, "class": "stable",
+            "why": "", "wall_time_s": 0.0}"#,
+    )
+    .unwrap();
+    let (ok, err) = airring(&["sweep-orbits", s, "--out", o, c, t, "--jobs", "2"]);
+    assert!(ok, "{err}");
+    let csv = std::fs::read_to_string(out.join("orbit_classes.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().collect();
+    assert_eq!(rows.len(), 3, "{csv}");
+    assert!(
+        rows[0].starts_with("run,threshold_speed [Hz],orbit_class,borderline,runup_class,agree")
+    );
+    let low: Vec<&str> = rows[1].split(',').collect();
+    assert_eq!(low[0], "dH0_d50", "{csv}");
+    let threshold: f64 = low[1].parse().unwrap();
+    assert!((threshold - 137.7).abs() < 2.0, "{csv}");
+    assert_eq!(
+        &low[2..6],
+        &["unstable_low_speed", "false", "unstable_low_speed", "true"],
+        "{csv}"
+    );
+    let stable: Vec<&str> = rows[2].split(',').collect();
+    assert_eq!(
+        &stable[2..6],
+        &["stable", "false", "path1", "false"],
+        "{csv}"
+    );
+    assert!(
+        err.contains("orbit class = run-up class in 1 of 2 cells"),
+        "{err}"
+    );
+    let cell = std::fs::read_to_string(out.join("cells/dH0_d50/cell.json")).unwrap();
+    // Resumed: both cells are read back, nothing is simulated or rewritten.
+    let (ok, err) = airring(&["sweep-orbits", s, "--out", o, "--jobs", "1"]);
+    assert!(ok, "{err}");
+    assert_eq!(err.matches("(done earlier)").count(), 2, "{err}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("cells/dH0_d50/cell.json")).unwrap(),
+        cell
+    );
+    // Bad input, refused before any work, the value named.
+    for (args, expect) in [
+        (vec!["--above", "0"], "--above 0"),
+        (vec!["--settle=-1"], "--settle -1"),
+        (vec![c, "/no/such/runups.csv"], "/no/such/runups.csv"),
+        (vec!["--jobs", "0"], "--jobs 0"),
+    ] {
+        let mut all = vec!["sweep-orbits", s, "--out", o];
+        all.extend(args);
+        let (ok, err) = airring(&all);
+        assert!(!ok && err.contains(expect), "{all:?}: {err}");
+    }
+    let imbalanced = dir.join("imbalanced.toml");
+    std::fs::write(
+        &imbalanced,
+        "name = \"i\"\n[fixed]\npreset = \"path1\"\nimbalance_c = 0.5\n[[grid]]\nd = [50]\n",
+    )
+    .unwrap();
+    let (ok, err) = airring(&["sweep-orbits", imbalanced.to_str().unwrap(), "--out", o]);
+    assert!(!ok && err.contains("imbalance"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -214,7 +214,7 @@ impl Bounds {
 }
 
 /// The class of an unstable run from its three features (module documentation, steps 4-6).
-fn path_class(large: bool, proportional: bool, two_freq: bool) -> RunClass {
+pub fn path_class(large: bool, proportional: bool, two_freq: bool) -> RunClass {
     if large && proportional {
         RunClass::Path2b
     } else if large || two_freq {

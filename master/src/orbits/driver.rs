@@ -89,6 +89,19 @@ pub struct SettledRecord {
     #[serde(rename = "max_eps_T")]
     pub max_eps_t: Option<f64>,
     pub whirl_frequency_hz: Option<f64>,
+    /// Each bearing's own whirl frequency [Hz] (C, T), from the crossings of its journal's x
+    /// relative to the ring: two whirl frequencies more than 5 % apart are the run-up
+    /// classifier's path-1 sign. None in files of earlier versions and where a bearing has
+    /// fewer than four crossings.
+    #[serde(default)]
+    pub bearing_whirl_frequencies_hz: Option<[f64; 2]>,
+    /// RMS distance of the journal (relative to its ring) from its mean position over the last
+    /// tenth of the settle time, / C: the run-up classifier's whirl amplitude (`LARGE_WHIRL_AMP_REL`
+    /// is its bound). None in files of earlier versions and for a failed simulation.
+    #[serde(rename = "whirl_rms_C", default)]
+    pub whirl_rms_c: Option<f64>,
+    #[serde(rename = "whirl_rms_T", default)]
+    pub whirl_rms_t: Option<f64>,
     /// Relative spread of the intervals between the whirl's crossings of its mean.
     pub period_spread: Option<f64>,
     pub message: Option<String>,
@@ -104,8 +117,12 @@ pub struct OrbitsReport {
     #[serde(default)]
     pub shooting: String,
     /// The linear threshold speed (`airring stability`) [Hz], if the equilibrium turns unstable
-    /// within 10 .. 2000 Hz.
+    /// from 100 Hz to the top speed.
     pub linear_threshold_hz: Option<f64>,
+    /// Why there is no linear threshold: the analysis failed (its message) or the equilibrium
+    /// stays stable up to the top speed.
+    #[serde(default)]
+    pub linear_note: Option<String>,
     pub settled: Vec<SettledRecord>,
     pub orbits: Vec<OrbitRecord>,
     /// Where the continued branch meets the equilibrium [Hz].
@@ -259,9 +276,10 @@ pub fn find_orbits(
         ));
     }
     std::fs::create_dir_all(&req.out_dir).map_err(|e| format!("{}: {e}", req.out_dir.display()))?;
-    let linear = crate::stability::analyse(&req.settings, &linear_grid())
-        .ok()
-        .and_then(|r| r.threshold.map(|t| t.speed_hz));
+    let (linear, linear_note) = linear_threshold(&req.settings);
+    if let Some(note) = &linear_note {
+        progress(&format!("linear threshold: {note}"));
+    }
     let opts = cosim_shooting_options();
     let mut report = OrbitsReport {
         preset: req.settings.preset.clone(),
@@ -273,6 +291,7 @@ pub fn find_orbits(
             "reduced".into()
         },
         linear_threshold_hz: linear,
+        linear_note,
         settled: vec![],
         orbits: vec![],
         hopf_estimate_hz: None,
@@ -334,6 +353,9 @@ pub fn find_orbits(
                     max_eps_c: None,
                     max_eps_t: None,
                     whirl_frequency_hz: None,
+                    bearing_whirl_frequencies_hz: None,
+                    whirl_rms_c: None,
+                    whirl_rms_t: None,
                     period_spread: None,
                     message: Some(e),
                 });
@@ -449,9 +471,18 @@ fn settle_and_shoot(
 ) -> Result<(SettledRecord, Option<(PeriodicOrbit, Vec<(String, f64)>)>), String> {
     let speed = flow.speed_hz();
     let window = 0.1 * settle_s;
-    flow.settle(settle_s - window)?;
     let n = ((window / 20e-6).round() as usize).max(50);
-    let samples = flow.sample(window, n)?;
+    let simulated = flow
+        .settle(settle_s - window)
+        .and_then(|()| flow.sample(window, n));
+    let samples = simulated.map_err(|e| {
+        // Where it failed says what it was doing: a journal deep in its ring (a large whirl in
+        // hard contact the rotor's step control gives up on) or not.
+        let at = flow.max_eps_now().map_or(String::new(), |eps| {
+            format!(" (largest film eccentricity {eps:.3} when it failed)")
+        });
+        format!("{e}{at}")
+    })?;
     let ts: Vec<f64> = samples.iter().map(|s| s.0).collect();
     let clearance = flow.clearance_m();
     let eps = |b: usize| {
@@ -461,6 +492,17 @@ fn settle_and_shoot(
             .fold(0.0, f64::max)
     };
     let (max_eps_c, max_eps_t) = (eps(0), eps(1));
+    let rms = |b: usize| {
+        let n = samples.len() as f64;
+        let mx = samples.iter().map(|s| s.1[2 * b]).sum::<f64>() / n;
+        let my = samples.iter().map(|s| s.1[2 * b + 1]).sum::<f64>() / n;
+        let ms = samples
+            .iter()
+            .map(|s| (s.1[2 * b] - mx).powi(2) + (s.1[2 * b + 1] - my).powi(2))
+            .sum::<f64>()
+            / n;
+        ms.sqrt() / clearance[b]
+    };
     let xs: Vec<f64> = samples.iter().map(|s| s.1[0]).collect();
     let lo = xs.iter().copied().fold(f64::INFINITY, f64::min);
     let hi = xs.iter().copied().fold(f64::NEG_INFINITY, f64::max);
@@ -470,6 +512,9 @@ fn settle_and_shoot(
         max_eps_c: Some(max_eps_c),
         max_eps_t: Some(max_eps_t),
         whirl_frequency_hz: None,
+        bearing_whirl_frequencies_hz: None,
+        whirl_rms_c: Some(rms(0)),
+        whirl_rms_t: Some(rms(1)),
         period_spread: None,
         message: None,
     };
@@ -500,6 +545,10 @@ fn settle_and_shoot(
         return Ok((rec, None));
     };
     rec.whirl_frequency_hz = Some(1.0 / period);
+    let xt: Vec<f64> = samples.iter().map(|s| s.1[2]).collect();
+    if let Some((period_t, _)) = crossing_period(&ts, &xt) {
+        rec.bearing_whirl_frequencies_hz = Some([1.0 / period, 1.0 / period_t]);
+    }
     rec.period_spread = Some(spread);
     if spread > 0.05 {
         rec.motion = "quasi-periodic".into();
@@ -530,8 +579,39 @@ fn settle_and_shoot(
     }
 }
 
-fn linear_grid() -> Vec<f64> {
-    (1..=200).map(|k| 10.0 * k as f64).collect()
+/// The linear threshold speed [Hz] on `airring stability`'s default grid (100 Hz to the top
+/// speed in 50 Hz steps, the crossing refined to 0.5 Hz), or why there is none. The grid starts
+/// at 100 Hz because at 10 Hz the static equilibrium of a large clearance is not found
+/// (C = 30 um, c = 1000 N/mm: "static equilibrium not found in 40 Newton steps at 10.0 Hz"),
+/// which once left the threshold silently empty.
+pub fn linear_threshold(s: &RunupSettings) -> (Option<f64>, Option<String>) {
+    let top = top_speed_hz(s);
+    let mut grid: Vec<f64> = (2..)
+        .map(|k| 50.0 * k as f64)
+        .take_while(|f| *f < top)
+        .collect();
+    grid.push(top);
+    match crate::stability::analyse(s, &grid) {
+        Ok(r) => match r.threshold {
+            Some(t) => (Some(t.speed_hz), None),
+            None => (
+                None,
+                Some(format!(
+                    "the equilibrium stays stable from 100 to {top} Hz (linear analysis)"
+                )),
+            ),
+        },
+        Err(e) => (None, Some(format!("the linear analysis failed: {e}"))),
+    }
+}
+
+/// The highest speed of the run-up (its ramp's end, or the profile's top).
+pub fn top_speed_hz(s: &RunupSettings) -> f64 {
+    if s.speed_profile.is_empty() {
+        s.f_max_hz
+    } else {
+        s.speed_profile.iter().map(|p| p.1).fold(0.0, f64::max)
+    }
 }
 
 /// Speeds: increasing, positive, within the run-up's range (0, f_max].
@@ -539,11 +619,7 @@ pub fn check_speeds(speeds: &[f64], s: &RunupSettings) -> Result<(), String> {
     if speeds.is_empty() {
         return Err("no speeds given".into());
     }
-    let top = if s.speed_profile.is_empty() {
-        s.f_max_hz
-    } else {
-        s.speed_profile.iter().map(|p| p.1).fold(0.0, f64::max)
-    };
+    let top = top_speed_hz(s);
     for &f in speeds {
         if !(f.is_finite() && f > 0.0 && f <= top) {
             return Err(format!(

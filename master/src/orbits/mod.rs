@@ -11,8 +11,11 @@ pub mod full_state;
 pub mod krylov;
 pub mod normal_form;
 pub mod shooting;
+pub mod study;
 
 #[cfg(test)]
 mod krylov_tests;
+#[cfg(test)]
+mod study_tests;
 #[cfg(test)]
 mod tests;

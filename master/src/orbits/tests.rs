@@ -202,6 +202,7 @@ fn bifurcation_diagram_dashes_the_unstable_orbits() {
         settle_s: 1.0,
         shooting: "reduced".into(),
         linear_threshold_hz: Some(482.0),
+        linear_note: None,
         settled: vec![],
         orbits: vec![
             orbit(520.0, 0.45, true, "settled"),
