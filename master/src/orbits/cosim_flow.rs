@@ -81,6 +81,19 @@ pub const ORBIT_MACRO_STEP_US: f64 = 20.0;
 /// 1.2e-13 s at t = 0.72 s, one of 2.0e-14 s at 0.7364 s, the failure there).
 const GRID_ROUNDING: f64 = 1e-6;
 
+/// The next step towards a target `left_s` ahead with macro step `h_s`: none when the target is
+/// reached to rounding, the rest when it is within rounding of one step (the last step takes
+/// the rounding with it instead of leaving it for a step of its own), else `h_s`.
+pub fn grid_step(left_s: f64, h_s: f64) -> Option<f64> {
+    if left_s <= GRID_ROUNDING * h_s {
+        None
+    } else if left_s < h_s * (1.0 + GRID_ROUNDING) {
+        Some(left_s)
+    } else {
+        Some(h_s)
+    }
+}
+
 /// Refuses a rotor with an imbalance: it is forced at its spin frequency, so its whirls are
 /// not periodic orbits of an autonomous system.
 pub fn check_autonomous(settings: &RunupSettings) -> Result<(), String> {
@@ -187,21 +200,11 @@ impl RotorFilmFlow {
     }
 
     fn step_to(&mut self, t_target: f64) -> Result<(), String> {
-        let h = self.macro_step_s;
-        loop {
-            let left = t_target - self.cosim.time_s();
-            if left <= GRID_ROUNDING * h {
-                return Ok(());
-            }
-            // The last step takes the rounding with it instead of leaving it for a step of its own.
-            let step = if left < h * (1.0 + GRID_ROUNDING) {
-                left
-            } else {
-                h
-            };
+        while let Some(step) = grid_step(t_target - self.cosim.time_s(), self.macro_step_s) {
             self.cosim.step(step).map_err(|e| e.to_string())?;
             self.macro_steps += 1;
         }
+        Ok(())
     }
 
     /// Co-simulates on from the current state for `duration_s` (the whirl settles) and makes

@@ -592,6 +592,15 @@ pub fn linear_threshold(s: &RunupSettings) -> (Option<f64>, Option<String>) {
         .collect();
     grid.push(top);
     match crate::stability::analyse(s, &grid) {
+        // Unstable from the first speed on: the threshold lies below it, and its upper bound is
+        // what a class can use (a rotor unstable at 100 Hz is unstable at low speed).
+        Ok(r) if r.unstable_at_first_speed => (
+            Some(grid[0]),
+            Some(format!(
+                "unstable already at {} Hz, the first speed analysed: the threshold lies below it",
+                grid[0]
+            )),
+        ),
         Ok(r) => match r.threshold {
             Some(t) => (Some(t.speed_hz), None),
             None => (

@@ -286,7 +286,7 @@ pub fn sweep_orbits(
         // `airring orbits` refuses an imbalance.
         for key in ["imbalance_c", "imbalance_t"] {
             if let Some(v) = spec.args.get(key) {
-                if v.trim().parse::<f64>().map_or(true, |m| m != 0.0) {
+                if !v.trim().parse::<f64>().is_ok_and(|m| m == 0.0) {
                     return Err(format!(
                         "run {}: {key} = {v}: an imbalance forces the rotor at its spin frequency, \
                          its whirls are then not periodic orbits; leave it out of the study",
@@ -323,7 +323,19 @@ pub fn sweep_orbits(
                         Ok(c)
                     }
                     None => {
-                        let r = classify_cell(name, &settings[k], opts, &dir, &line);
+                        // A panic in one cell is that cell's failure, not the study's end.
+                        let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                            classify_cell(name, &settings[k], opts, &dir, &line)
+                        }))
+                        .unwrap_or_else(|p| {
+                            Err(format!(
+                                "internal error: {}",
+                                p.downcast_ref::<&str>()
+                                    .map(|s| s.to_string())
+                                    .or_else(|| p.downcast_ref::<String>().cloned())
+                                    .unwrap_or_default()
+                            ))
+                        });
                         match &r {
                             Ok(c) => {
                                 line(&format!("{} ({:.0} s): {}", c.class, c.wall_time_s, c.why))
