@@ -286,7 +286,9 @@ fn sweep_orbits_classes_cells_compares_them_and_resumes() {
     std::fs::create_dir_all(&done).unwrap();
     std::fs::write(
         done.join("cell.json"),
-        r#"{"run": "dH30_d50", "linear_threshold_hz": null, "linear_note": "test", "top_speed_hz": 2000.0,
+        r#"{"run": "dH30_d50", "args": {"c": "1000", "clearance": "15", "d": "50", "dh": "30", "preset": "path1"},
+            "settle_s": 1.0, "above": 0.1,
+            "linear_threshold_hz": null, "linear_note": "test", "top_speed_hz": 2000.0,
             "speeds_hz": [], "settled": [], "orbits": [], "elasticity": null, "class": "stable",
             "why": "", "wall_time_s": 0.0}"#,
     )
@@ -326,6 +328,21 @@ fn sweep_orbits_classes_cells_compares_them_and_resumes() {
     assert_eq!(
         std::fs::read_to_string(out.join("cells/dH0_d50/cell.json")).unwrap(),
         cell
+    );
+    // A stored cell computed with other settings is not taken for this one: the folder is named.
+    let (ok, err) = airring(&[
+        "sweep-orbits",
+        s,
+        "--out",
+        o,
+        "--settle",
+        "2",
+        "--jobs",
+        "1",
+    ]);
+    assert!(
+        !ok && err.contains("cells/dH0_d50/cell.json") && err.contains("--settle 2"),
+        "{err}"
     );
     // Bad input, refused before any work, the value named.
     for (args, expect) in [

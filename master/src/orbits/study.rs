@@ -48,6 +48,14 @@ pub struct SweepOrbitsOptions {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct CellOrbits {
     pub run: String,
+    /// The study's parameters of the cell and the settle time and first-speed offset it was
+    /// computed with: a stored cell is reused only when all three are those asked for now.
+    #[serde(default)]
+    pub args: BTreeMap<String, String>,
+    #[serde(default)]
+    pub settle_s: f64,
+    #[serde(default)]
+    pub above: f64,
     pub linear_threshold_hz: Option<f64>,
     pub linear_note: Option<String>,
     pub top_speed_hz: f64,
@@ -318,6 +326,26 @@ pub fn sweep_orbits(
                 let dir = cells_dir.join(name);
                 let line = |m: &str| progress(&format!("[{}/{n}] {name}: {m}", k + 1));
                 let cell = match read_cell(&dir, &settings[k]) {
+                    Some(c)
+                        if c.args != study.runs[k].args
+                            || c.settle_s != opts.settle_s
+                            || c.above != opts.above =>
+                    {
+                        let e = format!(
+                            "{} holds this cell computed with other parameters or settings \
+                             ({:?}, --settle {}, --above {}; asked for now: {:?}, --settle {}, \
+                             --above {}): give another --out, or remove that folder to compute it again",
+                            dir.join("cell.json").display(),
+                            c.args,
+                            c.settle_s,
+                            c.above,
+                            study.runs[k].args,
+                            opts.settle_s,
+                            opts.above
+                        );
+                        line(&format!("failed: {e}"));
+                        Err(e)
+                    }
                     Some(c) => {
                         line(&format!("{} (done earlier)", c.class));
                         Ok(c)
@@ -325,7 +353,14 @@ pub fn sweep_orbits(
                     None => {
                         // A panic in one cell is that cell's failure, not the study's end.
                         let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                            classify_cell(name, &settings[k], opts, &dir, &line)
+                            classify_cell(
+                                name,
+                                &study.runs[k].args,
+                                &settings[k],
+                                opts,
+                                &dir,
+                                &line,
+                            )
                         }))
                         .unwrap_or_else(|p| {
                             Err(format!(
@@ -399,6 +434,7 @@ fn read_cell(dir: &Path, settings: &crate::runup::RunupSettings) -> Option<CellO
 
 fn classify_cell(
     name: &str,
+    args: &BTreeMap<String, String>,
     settings: &crate::runup::RunupSettings,
     opts: &SweepOrbitsOptions,
     dir: &Path,
@@ -437,6 +473,9 @@ fn classify_cell(
     let oc = orbit_class(threshold, top, &settled, &growth, &b);
     let cell = CellOrbits {
         run: name.into(),
+        args: args.clone(),
+        settle_s: opts.settle_s,
+        above: opts.above,
         linear_threshold_hz: threshold,
         linear_note,
         top_speed_hz: top,
