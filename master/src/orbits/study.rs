@@ -15,9 +15,11 @@
 //!    bounds: *large* (RMS whirl amplitude above 0.5 C or eccentricity above 1 at either speed),
 //!    *speed-proportional* (whirl-frequency elasticity ln(f2/f1) / ln(s2/s1) between the two
 //!    speeds at least 0.6) and *two frequencies* (the two bearings whirling at frequencies more
-//!    than 5 % apart at either speed); the class is `path_class` of them, as for a run-up. A speed where no whirl settled (still
-//!    growing or dying out after the settle time, or a failed simulation) leaves the cell
-//!    `undecided`, with the reason.
+//!    than 5 % apart at either speed); the class is `path_class` of them, as for a run-up.
+//!    A speed where the simulation came to rest and the linear analysis finds the equilibrium
+//!    stable again has no whirl; a speed where no whirl settled otherwise (still growing, dying
+//!    out where the equilibrium is unstable, a failed simulation) leaves the cell `undecided`,
+//!    with the reason.
 
 use super::driver::{
     find_orbits, linear_threshold, top_speed_hz, OrbitRecord, OrbitsRequest, SettledRecord,
