@@ -411,6 +411,14 @@ pub fn sweep_orbits(
     Ok(cells)
 }
 
+/// The least damped mode's growth rate [1/s] at each speed (empty when the analysis fails: the
+/// class then treats a speed at rest as undecided).
+fn growth_at(settings: &crate::runup::RunupSettings, speeds_hz: &[f64]) -> Vec<f64> {
+    crate::stability::analyse(settings, speeds_hz)
+        .map(|r| r.speeds.iter().map(|s| s.max_growth_per_s()).collect())
+        .unwrap_or_default()
+}
+
 /// A cell done earlier, its class decided again from its stored evidence (so a changed
 /// decision applies without simulating again); the linear growth rates at its speeds are
 /// computed when the file predates them.
@@ -419,9 +427,7 @@ fn read_cell(dir: &Path, settings: &crate::runup::RunupSettings) -> Option<CellO
     let mut c: CellOrbits = serde_json::from_str(&text).ok()?;
     if c.linear_growth_per_s.is_empty() && !c.settled.is_empty() {
         let speeds: Vec<f64> = c.settled.iter().map(|r| r.speed_hz).collect();
-        c.linear_growth_per_s = crate::stability::analyse(settings, &speeds)
-            .map(|r| r.speeds.iter().map(|s| s.max_growth_per_s()).collect())
-            .unwrap_or_default();
+        c.linear_growth_per_s = growth_at(settings, &speeds);
     }
     let oc = orbit_class(
         c.linear_threshold_hz,
@@ -467,9 +473,7 @@ fn classify_cell(
         };
         let report = find_orbits(&req, &mut |m| progress(m))?;
         let speeds_settled: Vec<f64> = report.settled.iter().map(|r| r.speed_hz).collect();
-        let growth = crate::stability::analyse(settings, &speeds_settled)
-            .map(|r| r.speeds.iter().map(|s| s.max_growth_per_s()).collect())
-            .unwrap_or_default();
+        let growth = growth_at(settings, &speeds_settled);
         (speeds, report.settled, report.orbits, growth)
     };
     let oc = orbit_class(threshold, top, &settled, &growth, &b);
