@@ -1,0 +1,88 @@
+//! The film's two hot kernels alone (hand-written, harness = false): the Galerkin residual of one
+//! lobe and the banded triangular solves of one lobe, on the paper mesh (533 nodes per lobe), at a
+//! pressure field taken from a whirl orbit (eps 0.3, whirl 400 Hz, Omega 1000 Hz). Medians of 41
+//! repeats of 200 calls each. In a run-up the two take ~2/3 of the films' time (residual ~36 %,
+//! solves ~31 % of all CPU samples of a path-1 run-up). Run: cargo bench -p fmu-airfilm --bench kernels
+
+use fmu_airfilm::geometry::{GapField, Geometry};
+use fmu_airfilm::linsolve::BandLu;
+use fmu_airfilm::mesh::Mesh;
+use fmu_airfilm::reynolds::{self, Coeffs};
+use fmu_airfilm::{AirFilm, BearingParams, JournalState};
+use std::f64::consts::PI;
+use std::time::Instant;
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+fn time_per_call(mut f: impl FnMut()) -> f64 {
+    let reps = 200;
+    let mut t_rep = Vec::new();
+    for _ in 0..41 {
+        let t = Instant::now();
+        for _ in 0..reps {
+            f();
+        }
+        t_rep.push(t.elapsed().as_secs_f64() / reps as f64);
+    }
+    median(t_rep)
+}
+
+fn main() {
+    let prm = BearingParams::paper();
+    let om = 2.0 * PI * 1000.0;
+    let e = 0.3 * prm.bore.c_m;
+    let w = 2.0 * PI * 400.0;
+    let orbit = move |t: f64| JournalState {
+        dx_m: e * (w * t).cos(),
+        dy_m: e * (w * t).sin(),
+        vx_m_s: -e * w * (w * t).sin(),
+        vy_m_s: e * w * (w * t).cos(),
+        omega_rad_s: om,
+    };
+    let h = 10e-6;
+    let mut film = AirFilm::new(prm.clone()).unwrap();
+    let mut k = 0usize;
+    while (k as f64) * h < 5e-3 {
+        film.advance(k as f64 * h, h, &orbit).unwrap();
+        k += 1;
+    }
+    let mesh = Mesh::new(&prm);
+    let geom = Geometry::new(&prm, &mesh);
+    let mut gap = GapField::default();
+    geom.update(&film.journal(), prm.bore.c_m, &mut gap);
+    let co = Coeffs {
+        lambda: prm.bearing_number(om),
+        tau_s: prm.squeeze_time_s(),
+        c0_per_s: 1.0 / h,
+    };
+    let npb = mesh.npb;
+    let p = &film.pressures_rel()[..npb];
+    let hist: Vec<f64> = p.iter().map(|v| v / h).collect();
+    let mut res = vec![0.0; npb];
+    let t_res = time_per_call(|| {
+        reynolds::residual(&mesh, &gap, 0, co, p, &hist, None, &mut res);
+        std::hint::black_box(&mut res);
+    });
+    let mut lu = BandLu::new(npb, mesh.kl, mesh.ku);
+    reynolds::jacobian(&mesh, &gap, 0, co, p, &mut lu);
+    let t_jac = time_per_call(|| {
+        reynolds::jacobian(&mesh, &gap, 0, co, p, &mut lu);
+        std::hint::black_box(&mut lu);
+    });
+    lu.factor().unwrap();
+    let mut b = res.clone();
+    let t_solve = time_per_call(|| {
+        b.copy_from_slice(&res);
+        lu.solve(&mut b);
+        std::hint::black_box(&mut b);
+    });
+    println!(
+        "one lobe (533 nodes): residual median {:.2} us, Jacobian assembly {:.2} us, triangular solves {:.2} us",
+        t_res * 1e6,
+        t_jac * 1e6,
+        t_solve * 1e6
+    );
+}
