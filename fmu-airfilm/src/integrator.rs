@@ -7,12 +7,14 @@
 //! then BDF2 with a quadratic predictor. The local error is estimated from corrector minus
 //! predictor (Milne's device, variable-step constants) in a weighted RMS norm
 //! (rtol |P| + atol/p_a). Each lobe is an independent block: its Newton iteration, Jacobian
-//! (analytic) and banded LU are its own. A block's LU is reused over iterations and steps until
-//! Newton converges slowly, the step-size coefficient c0 changes by more than ~50 %, or it is 40
-//! steps old. The factors, their age and c0 are part of the serialized state, so clones and
+//! (analytic) and banded LUs are its own. A block keeps two factorized matrices, for the two
+//! sub-step sizes a master's macro step makes the step control alternate between; a sub-step
+//! reuses the one whose coefficient c0 is nearest its own until Newton converges slowly, c0
+//! differs by more than ~50 %, or the matrix is 40 steps old (`factor_slots`). The factors, their age and c0 are part of the serialized state, so clones and
 //! restored states continue bit-identically.
 
 use crate::error::FilmError;
+use crate::factor_slots::{self, SlotInfo, SLOTS_PER_LOBE};
 use crate::forces::{self, FilmOutputs};
 use crate::geometry::{min_gap_m, GapField, Geometry};
 use crate::linsolve::BandLu;
@@ -112,11 +114,15 @@ pub struct AirFilm {
     h_next_s: f64,
     /// Inputs at t_s.
     journal: JournalState,
+    /// Factorized Newton matrices, [`SLOTS_PER_LOBE`] per block (slot i of block k at
+    /// k * SLOTS_PER_LOBE + i; see [`factor_slots`]), whether each may be used, the c0 it was
+    /// assembled with, its age and the sub-steps since it was last used (accepted sub-steps).
     lu: Vec<BandLu>,
     lu_valid: Vec<bool>,
     lu_c0: Vec<f64>,
     lu_age: Vec<u32>,
-    /// Last observed Newton contraction rate per block (CVODE-style first-iteration test).
+    lu_idle: Vec<u32>,
+    /// Last observed Newton contraction rate per slot (CVODE-style first-iteration test).
     newton_rate: Vec<f64>,
     totals: StepStats,
     #[serde(skip)]
@@ -147,6 +153,7 @@ impl Clone for AirFilm {
             lu_valid: vec![],
             lu_c0: vec![],
             lu_age: vec![],
+            lu_idle: vec![],
             newton_rate: vec![],
             totals: StepStats::default(),
             scratch: Scratch::default(),
@@ -174,6 +181,7 @@ impl Clone for AirFilm {
             lu_valid,
             lu_c0,
             lu_age,
+            lu_idle,
             newton_rate,
             totals,
             scratch: _,
@@ -193,6 +201,7 @@ impl Clone for AirFilm {
         self.lu_valid.clone_from(lu_valid);
         self.lu_c0.clone_from(lu_c0);
         self.lu_age.clone_from(lu_age);
+        self.lu_idle.clone_from(lu_idle);
         self.newton_rate.clone_from(newton_rate);
         self.totals = *totals;
     }
@@ -205,15 +214,16 @@ impl AirFilm {
         let mesh = Mesh::new(&params);
         let geom = Geometry::new(&params, &mesh);
         let n = mesh.n_nodes();
-        let nb = mesh.n_blocks;
+        let n_slots = mesh.n_blocks * SLOTS_PER_LOBE;
         Ok(AirFilm {
-            lu: (0..nb)
+            lu: (0..n_slots)
                 .map(|_| BandLu::new(mesh.npb, mesh.kl, mesh.ku))
                 .collect(),
-            lu_valid: vec![false; nb],
-            lu_c0: vec![0.0; nb],
-            lu_age: vec![0; nb],
-            newton_rate: vec![1.0; nb],
+            lu_valid: vec![false; n_slots],
+            lu_c0: vec![0.0; n_slots],
+            lu_age: vec![0; n_slots],
+            lu_idle: vec![0; n_slots],
+            newton_rate: vec![1.0; n_slots],
             h_next_s: params.h_init_s,
             params,
             mesh,
@@ -458,8 +468,8 @@ impl AirFilm {
         self.n_hist = (self.n_hist + 1).min(2);
         self.t_s = t_new;
         self.journal = j_new;
-        for a in self.lu_age.iter_mut() {
-            *a += 1;
+        for a in self.lu_age.iter_mut().chain(self.lu_idle.iter_mut()) {
+            *a = a.saturating_add(1);
         }
     }
 
@@ -531,10 +541,17 @@ impl AirFilm {
         let npb = self.mesh.npb;
         for k in 0..self.mesh.n_blocks {
             let r = k * npb..(k + 1) * npb;
-            let c0_ratio = c0 / self.lu_c0[k];
-            let mut need_jac = !self.lu_valid[k]
-                || !(0.67..=1.5).contains(&c0_ratio)
-                || self.lu_age[k] >= MAX_LU_AGE;
+            let slots = k * SLOTS_PER_LOBE..(k + 1) * SLOTS_PER_LOBE;
+            let infos: [SlotInfo; SLOTS_PER_LOBE] = std::array::from_fn(|i| SlotInfo {
+                valid: self.lu_valid[slots.start + i],
+                c0_per_s: self.lu_c0[slots.start + i],
+                age: self.lu_age[slots.start + i],
+                idle: self.lu_idle[slots.start + i],
+            });
+            let choice = factor_slots::choose(&infos, c0, MAX_LU_AGE);
+            let m = slots.start + choice.slot;
+            self.lu_idle[m] = 0;
+            let mut need_jac = choice.refactor;
             let mut converged = Err(NewtonFail {
                 lobe: k,
                 cause: "no attempt",
@@ -548,32 +565,32 @@ impl AirFilm {
                         k,
                         co,
                         &s.p_new[r.clone()],
-                        &mut self.lu[k],
+                        &mut self.lu[m],
                     );
                     stats.n_jacobians += 1;
-                    self.lu_valid[k] = false;
-                    if self.lu[k].factor().is_err() {
+                    self.lu_valid[m] = false;
+                    if self.lu[m].factor().is_err() {
                         return Err(NewtonFail {
                             lobe: k,
                             cause: "singular Newton matrix",
                         });
                     }
-                    self.lu_valid[k] = true;
-                    self.lu_c0[k] = c0;
-                    self.lu_age[k] = 0;
-                    self.newton_rate[k] = 1.0;
+                    self.lu_valid[m] = true;
+                    self.lu_c0[m] = c0;
+                    self.lu_age[m] = 0;
+                    self.newton_rate[m] = 1.0;
                 }
                 match newton_block(
                     &self.mesh,
                     &s.gap,
                     k,
                     co,
-                    &self.lu[k],
+                    &self.lu[m],
                     &mut s.p_new[r.clone()],
                     &s.hist[r.clone()],
                     &mut s.res[r.clone()],
                     &s.wt[r.clone()],
-                    &mut self.newton_rate[k],
+                    &mut self.newton_rate[m],
                     stats,
                 ) {
                     Ok(()) => {

@@ -12,6 +12,7 @@
 pub mod contact;
 pub mod dynamic;
 pub mod error;
+pub mod factor_slots;
 pub mod forces;
 pub mod friction;
 pub mod geometry;

@@ -219,6 +219,82 @@ fn reused_saved_state_rolls_back_bit_identically() {
         .all(|(x, y)| x.to_bits() == y.to_bits()));
 }
 
+/// Under a master's macro step the film's step control alternates between one sub-step and two
+/// of half its size, and the BDF coefficient c0 jumps by ~2x at every switch. Each lobe keeps a
+/// factorized matrix for each size, so the switches do not refactorize; the answer stays within
+/// the tolerance of a run at a quarter of the tolerance. A save and restore across the switches
+/// (both matrices per lobe in play) repeats the steps bit for bit.
+#[test]
+fn alternating_sub_step_sizes_reuse_a_matrix_for_each() {
+    let prm = BearingParams {
+        rtol: 1e-3,
+        atol_pa: 100.0,
+        h_max_s: 50e-6,
+        ..BearingParams::paper()
+    };
+    let orbit = whirl(&prm, 0.3, 200.0, 1000.0);
+    // 50 us, 25 us, 25 us, ...: 30 cycles, 90 calls, 4.5 ms (0.9 whirl periods).
+    let calls: Vec<(f64, f64)> = (0..30)
+        .flat_map(|c| {
+            let t = c as f64 * 100e-6;
+            [(t, 50e-6), (t + 50e-6, 25e-6), (t + 75e-6, 25e-6)]
+        })
+        .collect();
+    let run = |prm: &BearingParams, calls: &[(f64, f64)]| {
+        let mut f = film_on_orbit(prm, &orbit);
+        for &(t, h) in calls {
+            f.advance(t, h, &orbit).unwrap();
+        }
+        f
+    };
+    // The first call climbs from the initial sub-step; every later one takes a single sub-step.
+    let start = run(&prm, &calls[..1]).total_stats();
+    let f = run(&prm, &calls);
+    let st = f.total_stats();
+    assert_eq!(st.n_steps - start.n_steps, calls.len() - 1, "{st:?}");
+    // A single matrix per lobe would refactorize at each of the 59 switches (177 Jacobians).
+    // Two per lobe: each refactorized when 40 steps old (89 steps: at most 3 times each), or
+    // when Newton converges slowly.
+    let n_lobes = 3;
+    let jacobians = st.n_jacobians - start.n_jacobians;
+    assert!(
+        jacobians <= 8 * n_lobes,
+        "{jacobians} Jacobians over 59 switches of the sub-step size: {st:?}"
+    );
+    let tight = BearingParams {
+        rtol: 2.5e-4,
+        atol_pa: 25.0,
+        ..prm.clone()
+    };
+    let reference = run(&tight, &calls).outputs();
+    let o = f.outputs();
+    let scale = reference.fx_n.hypot(reference.fy_n);
+    let diff = (o.fx_n - reference.fx_n).hypot(o.fy_n - reference.fy_n);
+    assert!(
+        diff < 1e-2 * scale,
+        "force {:?} vs reference {:?}",
+        (o.fx_n, o.fy_n),
+        (reference.fx_n, reference.fy_n)
+    );
+
+    // Save after a third of the calls, run on, restore into the same copy, repeat.
+    // Into a reused copy, as a master saves its FMU state (only changed factors are copied).
+    let mut a = run(&prm, &calls[..30]);
+    let mut saved = run(&prm, &calls[..3]);
+    saved.clone_from(&a);
+    let mut first = vec![];
+    for &(t, h) in &calls[30..] {
+        a.advance(t, h, &orbit).unwrap();
+        first.push(a.outputs().fx_n.to_bits());
+    }
+    a.clone_from(&saved);
+    for (i, &(t, h)) in calls[30..].iter().enumerate() {
+        a.advance(t, h, &orbit).unwrap();
+        assert_eq!(a.outputs().fx_n.to_bits(), first[i], "replayed call {i}");
+    }
+    assert_eq!(a.outputs().fx_n.to_bits(), o.fx_n.to_bits());
+}
+
 /// A Newton failure names the lobe and the cause (here a fixed step far too long for a violent
 /// orbit), and the film stays at its last accepted state.
 #[test]
