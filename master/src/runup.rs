@@ -584,18 +584,20 @@ pub const RECORDED: &[&str] = &[
 ];
 
 /// Default macro step and polynomial orders (see docs/convergence.md for the study behind them).
-/// 100 us was measured on 2026-12-03 and not adopted: the same 42 Section 4 classes in 0.69x of
-/// the study's wall time, but weakly unstable whirls become visible early: C10/dH20/c1500/d50
-/// -6.7 %, path 2b -4.8 % against 10 us references (20 us: -0.03 %, +0.16 %).
-/// `--macro-step 100` remains for screening.
-pub const DEFAULT_MACRO_STEP_US: f64 = 20.0;
+/// 50 us with a second-order extrapolation of the rotor's inputs since 2026-12-03: against the
+/// previous default (20 us, first order) the same class in all 42 Section 4 cells and the three
+/// Section 3 presets, onsets within 0.4 % of 10 us references, eccentricities within 1.8 %, the
+/// Section 4 study in 0.48x of its wall time. `--macro-step 20 --extrapolation-order 1` remains
+/// for cross-checks. 100 us was not adopted (weakly unstable whirls become visible up to 6.7 %
+/// early with either order).
+pub const DEFAULT_MACRO_STEP_US: f64 = 50.0;
 /// Default interval of the recorded time series [us].
 pub const DEFAULT_OUTPUT_INTERVAL_US: f64 = 50.0;
 /// Largest internal step of the rotor FMU in a run-up [us] (its own default is 100 us). The
 /// rotor's error control cannot see a whirl of nanometres against an equilibrium of micrometres
 /// (atol 10 nm, rtol 1e-4), so its step grows to the macro step; at a 100 us macro step BDF2
 /// damps the slowly growing whirl enough to delay path 2a's onset by 2.1 % (1.8287 -> 1.8677 s),
-/// with this cap by 0.1 %. At the 20 us default it changes nothing: the rotor never steps past
+/// with this cap by 0.1 %. At a 20 us macro step it changes nothing: the rotor never steps past
 /// a macro step (docs/convergence.md).
 pub const ROTOR_MAX_STEP_US: f64 = 20.0;
 /// Default air-film tolerances of a run-up [rtol, atol in Pa]: 10x looser than the FMU's own
@@ -610,7 +612,10 @@ pub const DEFAULT_FILM_TOLERANCE: [f64; 2] = [1e-3, 100.0];
 pub const DEFAULT_CONTACT: ContactSide = ContactSide::Rotor;
 /// Default macro-step control: [rtol, atol in N] of the extrapolated bearing forces.
 pub const DEFAULT_STEP_CONTROL: [f64; 2] = [0.1, 1.0];
-pub const DEFAULT_EXTRAPOLATION_ORDER: u8 = 1;
+/// Second order: the coupling's damping error shrinks like h^(order + 1), which matters for weak
+/// whirls. Path 2b's onset against a 10 us reference: +0.15 % at 50 us with order 2, -4.8 % at
+/// 100 us with order 1 (docs/convergence.md).
+pub const DEFAULT_EXTRAPOLATION_ORDER: u8 = 2;
 pub const DEFAULT_INTERPOLATION_ORDER: u8 = 1;
 /// Default journal disturbance [mN] (see docs/stability.md, "The whirl seed").
 pub const DEFAULT_DISTURBANCE_MN: f64 = 0.001;

@@ -25,10 +25,11 @@ pub struct RunupArgs {
     /// Simulated time [s] (default: t_ramp, or the profile's last time).
     #[arg(long)]
     pub stop: Option<f64>,
-    /// Macro (communication) step [us].
+    /// Macro (communication) step [us] [default: 50; 20 with --extrapolation-order 1 is the
+    /// previous default, for cross-checks]
     #[arg(long)]
     pub macro_step: Option<f64>,
-    /// Extrapolation order of the rotor's inputs (0, 1, 2).
+    /// Extrapolation order of the rotor's inputs (0, 1, 2) [default: 2]
     #[arg(long)]
     pub extrapolation_order: Option<u8>,
     /// Interpolation order of the air films' inputs (0, 1, 2).
