@@ -1,14 +1,12 @@
 //! Hand-written benchmark (harness = false): medians over repeats on the paper mesh (1599 nodes).
 //! Run: cargo bench -p fmu-airfilm
 
-use fmu_airfilm::{steady_state, AirFilm, BearingParams, JournalState};
+mod common;
+
+use common::{film_warmed_up, median, whirl_orbit};
+use fmu_airfilm::{steady_state, BearingParams, JournalState};
 use std::f64::consts::PI;
 use std::time::Instant;
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.partial_cmp(b).unwrap());
-    v[v.len() / 2]
-}
 
 /// The contact law as the rotor calls it (inside its Newton iterations and finite-difference
 /// Jacobians): a journal touching lobe 2 (minimum gap 0.95 h_con) and one outside the band.
@@ -71,22 +69,9 @@ fn main() {
     );
 
     // Whirl orbit eps 0.3, whirl 400 Hz, Omega 1000 Hz; 10 us communication steps after 5 ms warm-up.
-    let e = 0.3 * prm.bore.c_m;
-    let w = 2.0 * PI * 400.0;
-    let orbit = move |t: f64| JournalState {
-        dx_m: e * (w * t).cos(),
-        dy_m: e * (w * t).sin(),
-        vx_m_s: -e * w * (w * t).sin(),
-        vy_m_s: e * w * (w * t).cos(),
-        omega_rad_s: om,
-    };
+    let orbit = whirl_orbit(&prm, 0.3, 400.0, 1000.0);
     let h = 10e-6;
-    let mut film = AirFilm::new(prm.clone()).unwrap();
-    let mut k = 0usize;
-    while (k as f64) * h < 5e-3 {
-        film.advance(k as f64 * h, h, &orbit).unwrap();
-        k += 1;
-    }
+    let (mut film, mut k) = film_warmed_up(&prm, &orbit, h, 5e-3);
     let before = film.total_stats();
     let mut t_step = Vec::new();
     let n = 2000;

@@ -4,18 +4,16 @@
 //! repeats of 200 calls each. In a run-up the two take ~2/3 of the films' time (residual ~36 %,
 //! solves ~31 % of all CPU samples of a path-1 run-up). Run: cargo bench -p fmu-airfilm --bench kernels
 
+mod common;
+
+use common::{film_warmed_up, median, whirl_orbit};
 use fmu_airfilm::geometry::{GapField, Geometry};
 use fmu_airfilm::linsolve::BandLu;
 use fmu_airfilm::mesh::Mesh;
 use fmu_airfilm::reynolds::{self, Coeffs};
-use fmu_airfilm::{AirFilm, BearingParams, JournalState};
+use fmu_airfilm::BearingParams;
 use std::f64::consts::PI;
 use std::time::Instant;
-
-fn median(mut v: Vec<f64>) -> f64 {
-    v.sort_by(|a, b| a.total_cmp(b));
-    v[v.len() / 2]
-}
 
 fn time_per_call(mut f: impl FnMut()) -> f64 {
     let reps = 200;
@@ -33,22 +31,9 @@ fn time_per_call(mut f: impl FnMut()) -> f64 {
 fn main() {
     let prm = BearingParams::paper();
     let om = 2.0 * PI * 1000.0;
-    let e = 0.3 * prm.bore.c_m;
-    let w = 2.0 * PI * 400.0;
-    let orbit = move |t: f64| JournalState {
-        dx_m: e * (w * t).cos(),
-        dy_m: e * (w * t).sin(),
-        vx_m_s: -e * w * (w * t).sin(),
-        vy_m_s: e * w * (w * t).cos(),
-        omega_rad_s: om,
-    };
+    let orbit = whirl_orbit(&prm, 0.3, 400.0, 1000.0);
     let h = 10e-6;
-    let mut film = AirFilm::new(prm.clone()).unwrap();
-    let mut k = 0usize;
-    while (k as f64) * h < 5e-3 {
-        film.advance(k as f64 * h, h, &orbit).unwrap();
-        k += 1;
-    }
+    let (film, _) = film_warmed_up(&prm, &orbit, h, 5e-3);
     let mesh = Mesh::new(&prm);
     let geom = Geometry::new(&prm, &mesh);
     let mut gap = GapField::default();

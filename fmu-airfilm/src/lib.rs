@@ -23,6 +23,8 @@ pub mod params;
 pub mod reynolds;
 pub mod shell;
 pub mod steady;
+#[cfg(test)]
+mod test_rng;
 pub mod verify;
 
 pub use error::FilmError;

@@ -361,14 +361,7 @@ impl BandLu {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// Numbers in [-1, 1) from a fixed seed.
-    fn next(seed: &mut u64) -> f64 {
-        *seed = seed
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        ((*seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
-    }
+    use crate::test_rng::symmetric as next;
 
     /// Four columns per pass are a re-arrangement only: on random band matrices that need
     /// pivoting, with identity rows and right-hand sides holding zeros (the Dirichlet rows), of

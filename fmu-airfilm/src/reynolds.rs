@@ -378,15 +378,8 @@ mod tests {
     use super::*;
     use crate::geometry::Geometry;
     use crate::params::BearingParams;
+    use crate::test_rng::uniform;
     use crate::JournalState;
-
-    /// Uniform numbers in [0, 1) from a fixed seed (xorshift64*).
-    fn uniform(seed: &mut u64) -> f64 {
-        *seed ^= *seed >> 12;
-        *seed ^= *seed << 25;
-        *seed ^= *seed >> 27;
-        (seed.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 11) as f64 / (1u64 << 53) as f64
-    }
 
     /// The lane layout is a pure re-arrangement: on random pressures, histories, sources and
     /// journal states (plain and lobed bores, every block), `residual` equals the scalar
