@@ -10,8 +10,9 @@
 //! (analytic) and banded LUs are its own. A block keeps two factorized matrices, for the two
 //! sub-step sizes a master's macro step makes the step control alternate between; a sub-step
 //! reuses the one whose coefficient c0 is nearest its own until Newton converges slowly, c0
-//! differs by more than ~50 %, or the matrix is 40 steps old (`factor_slots`). The factors, their age and c0 are part of the serialized state, so clones and
-//! restored states continue bit-identically.
+//! differs by more than ~50 %, or the matrix is 40 steps old (`factor_slots`). The factors,
+//! their c0, age and use are part of the serialized state, so clones and restored states continue
+//! bit-identically.
 
 use crate::error::FilmError;
 use crate::factor_slots::{self, SlotInfo, SLOTS_PER_LOBE};
@@ -208,6 +209,44 @@ impl Clone for AirFilm {
 }
 
 impl AirFilm {
+    /// Err naming the first part whose size does not fit the mesh, for a state deserialized from
+    /// bytes: a state saved by a build with another layout (e.g. one factorized matrix per lobe,
+    /// before two) can pass the FMU's GUID check, which covers the interface only.
+    pub fn check_layout(&self) -> Result<(), String> {
+        let n = self.mesh.n_nodes();
+        let n_slots = self.mesh.n_blocks * SLOTS_PER_LOBE;
+        let sizes = [
+            ("pressures", self.p.len(), n),
+            ("pressure history 1", self.p1.len(), n),
+            ("pressure history 2", self.p2.len(), n),
+            ("factorized matrices", self.lu.len(), n_slots),
+            ("matrix flags", self.lu_valid.len(), n_slots),
+            ("matrix coefficients", self.lu_c0.len(), n_slots),
+            ("matrix ages", self.lu_age.len(), n_slots),
+            ("matrix idle counts", self.lu_idle.len(), n_slots),
+            ("Newton rates", self.newton_rate.len(), n_slots),
+        ];
+        for (what, got, want) in sizes {
+            if got != want {
+                return Err(format!(
+                    "{what}: {got} entries where this build's mesh and layout need {want} \
+                     (a state saved by another version of the air film?)"
+                ));
+            }
+        }
+        if let Some(i) = self
+            .lu
+            .iter()
+            .position(|lu| !lu.fits(self.mesh.npb, self.mesh.kl, self.mesh.ku))
+        {
+            return Err(format!(
+                "factorized matrix {i} does not fit the mesh (a state saved by another version of \
+                 the air film?)"
+            ));
+        }
+        Ok(())
+    }
+
     /// A film at ambient pressure everywhere, t = 0, centred journal at rest.
     pub fn new(params: BearingParams) -> Result<Self, FilmError> {
         params.validate()?;
@@ -730,6 +769,82 @@ pub(crate) fn outputs_for(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The state layout of the builds before two factorized matrices per lobe (one per lobe, no
+    /// idle counts), written from a film of this build.
+    #[derive(Serialize)]
+    struct OneMatrixPerLobe<'a> {
+        params: &'a BearingParams,
+        mesh: &'a Mesh,
+        geom: &'a Geometry,
+        t_s: f64,
+        p: &'a [f64],
+        p1: &'a [f64],
+        p2: &'a [f64],
+        h1_s: f64,
+        h2_s: f64,
+        n_hist: usize,
+        h_next_s: f64,
+        journal: JournalState,
+        lu: Vec<&'a BandLu>,
+        lu_valid: Vec<bool>,
+        lu_c0: Vec<f64>,
+        lu_age: Vec<u32>,
+        newton_rate: Vec<f64>,
+        totals: StepStats,
+    }
+
+    /// A saved state of another layout passes the FMU's GUID check (the interface did not
+    /// change); it must be refused with a reason, never stepped.
+    #[test]
+    fn a_state_of_the_one_matrix_layout_is_refused() {
+        let prm = BearingParams {
+            n_elem_phi: 6,
+            n_elem_z: 2,
+            ..BearingParams::paper()
+        };
+        let j = JournalState::at(0.3 * prm.bore.c_m, 0.0, 6000.0);
+        let mut f = AirFilm::new(prm).unwrap();
+        for i in 0..5 {
+            f.advance(i as f64 * 1e-5, 1e-5, &|_| j).unwrap();
+        }
+        let same: AirFilm = bincode::deserialize(&bincode::serialize(&f).unwrap()).unwrap();
+        assert_eq!(same.check_layout(), Ok(()));
+
+        let every_first = |v: &[f64]| v.iter().step_by(SLOTS_PER_LOBE).copied().collect();
+        let old = OneMatrixPerLobe {
+            params: &f.params,
+            mesh: &f.mesh,
+            geom: &f.geom,
+            t_s: f.t_s,
+            p: &f.p,
+            p1: &f.p1,
+            p2: &f.p2,
+            h1_s: f.h1_s,
+            h2_s: f.h2_s,
+            n_hist: f.n_hist,
+            h_next_s: f.h_next_s,
+            journal: f.journal,
+            lu: f.lu.iter().step_by(SLOTS_PER_LOBE).collect(),
+            lu_valid: f.lu_valid.iter().step_by(SLOTS_PER_LOBE).copied().collect(),
+            lu_c0: every_first(&f.lu_c0),
+            lu_age: f.lu_age.iter().step_by(SLOTS_PER_LOBE).copied().collect(),
+            newton_rate: every_first(&f.newton_rate),
+            totals: f.totals,
+        };
+        let bytes = bincode::serialize(&old).unwrap();
+        match bincode::deserialize::<AirFilm>(&bytes) {
+            Err(e) => println!("refused by the decoder: {e}"),
+            Ok(g) => {
+                let e = g.check_layout().unwrap_err();
+                assert!(e.contains("another version"), "{e}");
+            }
+        }
+        // A matrix of the wrong size in the right number of slots.
+        let mut g = f.clone();
+        g.lu[1] = BandLu::new(4, 1, 1);
+        assert!(g.check_layout().unwrap_err().contains("matrix 1"));
+    }
 
     #[test]
     fn vacuum_floor_raises_and_counts_only_values_below_it() {

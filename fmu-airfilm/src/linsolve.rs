@@ -73,6 +73,17 @@ impl BandLu {
         }
     }
 
+    /// Whether this is an n x n matrix of bandwidths kl, ku with its storage of that size (a
+    /// deserialized matrix is checked with it, so a foreign state is an error, not a panic in the
+    /// kernels).
+    pub fn fits(&self, n: usize, kl: usize, ku: usize) -> bool {
+        let ldab = 2 * kl + ku + 1;
+        (self.n, self.kl, self.ku, self.ldab) == (n, kl, ku, ldab)
+            && self.ab.len() == ldab * n
+            && self.ipiv.len() == n
+            && self.ipiv.iter().all(|&l| (l as usize) < n)
+    }
+
     /// Clears the matrix before assembly.
     pub fn zero(&mut self) {
         self.stamp = 0;

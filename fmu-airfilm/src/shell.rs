@@ -377,7 +377,12 @@ impl Model for AirFilmFmu {
     }
 
     fn deserialize(bytes: &[u8]) -> Result<Self, String> {
-        bincode::deserialize(bytes).map_err(|e| format!("not an air-film state: {e}"))
+        let fmu: AirFilmFmu =
+            bincode::deserialize(bytes).map_err(|e| format!("not an air-film state: {e}"))?;
+        fmu.film
+            .check_layout()
+            .map_err(|e| format!("not an air-film state of this build: {e}"))?;
+        Ok(fmu)
     }
 }
 
