@@ -561,7 +561,12 @@ impl AirFilm {
                     s.p_pred[i] = y0 + hs * f01 + hs * (hs + h1) * f012;
                     s.hist[i] = c0 * y0 + c1 * (y0 - y1);
                 }
-                let cc = hs * (hs + h1) * (hs + h1) / (6.0 * (2.0 * hs + h1));
+                // Local truncation error of variable-step BDF2 (the interpolation error of the
+                // derivative, h (h + h1) p'''/6, divided by c0) and of the quadratic predictor,
+                // both per p'''. Until 2026-12-04 cc lacked its factor hs (a length of time too
+                // few), which made fac ~1 instead of 2/11 at equal steps: the estimate was 5.5x
+                // too large and the film's steps 1.8x too small.
+                let cc = hs * hs * (hs + h1) * (hs + h1) / (6.0 * (2.0 * hs + h1));
                 let cp = hs * (hs + h1) * (hs + h1 + h2) / 6.0;
                 fac = cc / (cc + cp);
             }
@@ -769,6 +774,7 @@ pub(crate) fn outputs_for(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::f64::consts::PI;
 
     /// The state layout of the builds before two factorized matrices per lobe (one per lobe, no
     /// idle counts), written from a film of this build.
@@ -844,6 +850,89 @@ mod tests {
         let mut g = f.clone();
         g.lu[1] = BandLu::new(4, 1, 1);
         assert!(g.check_layout().unwrap_err().contains("matrix 1"));
+    }
+
+    /// One order-2 step taken from exact history (a reference with 1/128 of the step): the
+    /// step's error estimate must match its true local error, for equal steps and for a step
+    /// twice and half its predecessors. The estimate is Milne's device, fac (p_new - p_pred), with
+    /// the local truncation error of variable-step BDF2, h^2 (h + h1)^2 / (6 (2 h + h1)) p''', and
+    /// the predictor's, h (h + h1) (h + h1 + h2) / 6 p'''. Before the fix the estimate was 6.3x
+    /// the true error (the BDF2 constant lacked a factor h). rtol 1e-9 makes the local error
+    /// (~40-200 tolerances) dwarf Newton's (at most NEWTON_TOL = 0.05 of one); the ratios, 1.10-1.15,
+    /// tend to 1 as h shrinks (1.07 at h / 2): higher-order terms.
+    #[test]
+    fn order_two_error_estimate_matches_the_true_local_error() {
+        let base = BearingParams {
+            n_elem_phi: 8,
+            n_elem_z: 3,
+            rtol: 1e-9,
+            atol_pa: 1e-4,
+            ..BearingParams::paper()
+        };
+        let (e, w, om) = (0.4 * base.bore.c_m, 2.0 * PI * 400.0, 2.0 * PI * 1000.0);
+        let orbit = move |t: f64| JournalState {
+            dx_m: e * (w * t).cos(),
+            dy_m: e * (w * t).sin(),
+            vx_m_s: -e * w * (w * t).sin(),
+            vy_m_s: e * w * (w * t).cos(),
+            omega_rad_s: om,
+        };
+        let h = 8e-6;
+        let fine = BearingParams {
+            fixed_step_s: h / 128.0,
+            ..base.clone()
+        };
+        let j0 = orbit(0.0);
+        let mut reference = AirFilm::new(fine).unwrap();
+        let steady = crate::steady_state(&reference.params, j0).unwrap();
+        reference.set_pressures_rel(0.0, j0, &steady.p_rel).unwrap();
+        // Reference pressures at t0 + k h / 2, k = -4..=2.
+        let t0 = 2e-4;
+        reference.advance(0.0, t0 - 2.0 * h, &orbit).unwrap();
+        let mut at = vec![reference.p.clone()];
+        for k in -3..=2 {
+            let t = t0 + (k - 1) as f64 * 0.5 * h;
+            reference.advance(t, 0.5 * h, &orbit).unwrap();
+            at.push(reference.p.clone());
+        }
+        let p_ref = |k: i32| &at[(k + 4) as usize];
+        // (step, previous step, the one before) in halves of h.
+        for (hs, h1, h2) in [(2, 2, 2), (2, 1, 1), (1, 2, 2)] {
+            let mut f = reference.clone();
+            f.params = base.clone();
+            f.t_s = t0;
+            f.p.clone_from(p_ref(0));
+            f.p1.clone_from(p_ref(-h1));
+            f.p2.clone_from(p_ref(-h1 - h2));
+            let half = |k: i32| k as f64 * 0.5 * h;
+            (f.h1_s, f.h2_s, f.n_hist) = (half(h1), half(h2), 2);
+            f.ensure_scratch();
+            let mut stats = StepStats::default();
+            let (estimate, order) = f
+                .try_step(half(hs), &orbit(t0 + half(hs)), &mut stats)
+                .unwrap();
+            assert_eq!(order, 2);
+            let atol = base.atol_pa / base.p_a_pa;
+            let (mut sum, mut cnt) = (0.0, 0usize);
+            for (i, (&p_new, &exact)) in f.scratch.p_new.iter().zip(p_ref(hs)).enumerate() {
+                if !f.mesh.dirichlet[i % f.mesh.npb] {
+                    let e = (p_new - exact) / (base.rtol * f.p[i].abs() + atol);
+                    sum += e * e;
+                    cnt += 1;
+                }
+            }
+            let actual = (sum / cnt as f64).sqrt();
+            let ratio = estimate / actual;
+            println!(
+                "steps {hs}/{h1}/{h2} x h/2: estimate {estimate:.3e}, actual {actual:.3e}, \
+                 ratio {ratio:.3}"
+            );
+            assert!(
+                actual > 20.0,
+                "the local error must dominate Newton's ({actual})"
+            );
+            assert!((0.8..1.25).contains(&ratio), "estimate / actual = {ratio}");
+        }
     }
 
     #[test]
