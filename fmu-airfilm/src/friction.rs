@@ -92,16 +92,13 @@ pub fn friction_torque(
         let pb = &p[k * mesh.npb..(k + 1) * mesh.npb];
         for (e, nodes) in mesh.elem.iter().enumerate() {
             let col = mesh.elem_col[e] as usize;
+            // dP/dxi at the Gauss points (dP/dphi = 2 / dphi_e of it).
+            let dp = crate::forces::at_gauss_points(&b.dx, nodes, pb);
             for q in 0..9 {
                 let gi = k * geom.nq + 3 * col + q / 3;
-                // dP/dxi at the Gauss point (dP/dphi = 2 / dphi_e of it).
-                let mut dp = 0.0;
-                for a in 0..9 {
-                    dp += b.dx[q][a] * pb[nodes[a] as usize];
-                }
                 let w = b.w[q] * jac;
                 couette += w * inv_h[gi];
-                poiseuille += w * h_rel[gi] * dp;
+                poiseuille += w * h_rel[gi] * dp[q];
             }
         }
     }
