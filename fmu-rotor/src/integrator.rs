@@ -6,8 +6,11 @@
 //!   gyroscopic terms do not limit the step; accuracy does.
 //! * Predictor: order 1 uses y_n + h y'_n; order 2 the quadratic through y_{n-1}, y_n and y'_n.
 //!   The local error of the corrector is K (y_{n+1} - y_pred) with K = 1/2 (BDF1) and
-//!   K = beta = (1 + w) / (1 + 2 w), w = h_n / h_{n-1} (BDF2; both follow from comparing the
-//!   leading error terms of predictor and corrector).
+//!   K = (1 + w) / (2 + 3 w), w = h_n / h_{n-1} (BDF2; 2/5 at equal steps): the local truncation
+//!   error of variable-step BDF2, h_n^2 (h_n + h_{n-1})^2 / (6 (2 h_n + h_{n-1})) y''', over the
+//!   sum of it and the Hermite predictor's, h_n^2 (h_n + h_{n-1}) / 6 y''' (the textbook local
+//!   error, from exact past values, as the air film's estimate). Until 2026-12-04 K was
+//!   beta = (1 + w) / (1 + 2 w), 2/3 at equal steps: 1.67x the local error.
 //! * Only x and v enter the error and Newton norms; the multipliers are algebraic (index 2) and
 //!   coordinates fixed by a constraint are excluded too (they are exact by construction).
 //! * The iteration matrix is refactored only if beta h changes by more than 25 % or Newton
@@ -130,6 +133,16 @@ pub struct GglBdf {
     drift_pos: f64,
     drift_vel: f64,
     pub totals: StepStats,
+    /// The last step's weighted local error estimate (the tests compare it with the true error).
+    #[cfg(test)]
+    #[serde(skip)]
+    last_error_estimate: f64,
+}
+
+/// K of the BDF2 error estimate K (y_{n+1} - y_pred) for the step ratio w = h_n / h_{n-1}: the
+/// corrector's local truncation error over the sum of it and the predictor's (module header).
+fn bdf2_error_factor(w: f64) -> f64 {
+    (1.0 + w) / (2.0 + 3.0 * w)
 }
 
 const NEWTON_MAX_IT: usize = 4;
@@ -186,6 +199,8 @@ impl GglBdf {
             drift_pos: 0.0,
             drift_vel: 0.0,
             totals: StepStats::default(),
+            #[cfg(test)]
+            last_error_estimate: 0.0,
             sys,
         };
         s.update_drift();
@@ -378,11 +393,13 @@ impl GglBdf {
                 };
                 let order2 = self.prev.is_some();
                 let beta;
+                let k_err;
                 if let Some((tp, yprev)) = &self.prev {
                     let hp = self.t - tp;
                     let om = h / hp;
                     let den = 1.0 + 2.0 * om;
                     beta = (1.0 + om) / den;
+                    k_err = bdf2_error_factor(om);
                     let a = (1.0 + om) * (1.0 + om) / den;
                     let b = om * om / den;
                     for i in 0..ny {
@@ -392,6 +409,7 @@ impl GglBdf {
                     }
                 } else {
                     beta = 1.0;
+                    k_err = 0.5;
                     for i in 0..ny {
                         psi[i] = self.y[i];
                         yp[i] = self.y[i] + h * self.yd[i];
@@ -471,15 +489,18 @@ impl GglBdf {
                     self.jac = None;
                 }
                 // Local error estimate.
-                let k = if order2 { beta } else { 0.5 };
                 for i in 0..ny {
-                    r[i] = k * (w[i] - yp[i]);
+                    r[i] = k_err * (w[i] - yp[i]);
                 }
                 let err = if self.tol.error_control {
                     self.wnorm(&r[..ny], &wt)
                 } else {
                     0.0
                 };
+                #[cfg(test)]
+                {
+                    self.last_error_estimate = err;
+                }
                 let p = if order2 { 3.0 } else { 2.0 };
                 if err.is_nan() || err > 1.0 {
                     stats.rejected_steps += 1;
@@ -525,5 +546,104 @@ impl GglBdf {
         }
         self.totals.accumulate(&stats);
         Ok(stats)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::body::RigidBody;
+    use crate::constraint::Constraint;
+    use crate::system::ForceElement;
+
+    /// A ring on its mount (x and y free, z and the rotations constrained): a damped linear
+    /// oscillator with an exact flow.
+    fn ring_on_mount() -> (MultibodySystem, impl Fn(f64, f64, f64) -> (f64, f64)) {
+        let (m, c, d) = (0.05, 1e6, 20.0);
+        let sys = MultibodySystem {
+            bodies: vec![RigidBody {
+                mass_kg: m,
+                inertia_kg_m2: [[1e-5, 0.0, 0.0], [0.0, 1e-5, 0.0], [0.0, 0.0, 2e-5]],
+                point_masses: vec![],
+            }],
+            constraints: (2..6).map(|i| Constraint::fixed(i, 0.0)).collect(),
+            forces: vec![ForceElement::Mount {
+                body: 0,
+                anchor_m: [0.0, 0.0],
+                c_n_m: c,
+                d_n_s_m: d,
+            }],
+            gravity_m_s2: [0.0; 3],
+        };
+        let w = (c / m).sqrt();
+        let zeta = d / (2.0 * (c * m).sqrt());
+        let wd = w * (1.0 - zeta * zeta).sqrt();
+        // (x, v) after t from (x0, v0).
+        let flow = move |x0: f64, v0: f64, t: f64| {
+            let b = (v0 + zeta * w * x0) / wd;
+            let e = (-zeta * w * t).exp();
+            let (s, co) = (wd * t).sin_cos();
+            let x = e * (x0 * co + b * s);
+            (x, -zeta * w * x + e * wd * (b * co - x0 * s))
+        };
+        (sys, flow)
+    }
+
+    /// One BDF2 step from exact past values (y_{n-1}, y_n and y'_n on the exact solution), w
+    /// times as long as the step before: its error estimate must be its true local error. Before
+    /// the fix (K = beta) the ratio was 1.67 at w = 1 (1.60-1.75 for w = 0.5-2).
+    #[test]
+    fn bdf2_error_estimate_matches_the_true_local_error() {
+        let (sys, flow) = ring_on_mount();
+        let h = 1e-6;
+        let (atol_pos, atol_vel) = (1e-3, 1e-3 * 4472.0);
+        let (m, c, d) = (0.05, 1e6, 20.0);
+        let x0 = [1e-5, 0.0, 0.0, 0.0, 0.0, 0.0];
+        // y = [x, v] (12 values) and y' = [v, a] on the exact solution at t.
+        let exact = |t: f64| {
+            let (x, v) = flow(x0[0], 0.0, t);
+            let mut y = vec![0.0; 12];
+            let mut yd = vec![0.0; 12];
+            (y[0], y[6]) = (x, v);
+            (yd[0], yd[6]) = (v, -(c * x + d * v) / m);
+            (y, yd)
+        };
+        for w in [1.0, 2.0, 0.5, 1.5, 0.7] {
+            // Tolerances so loose that the step is accepted as asked.
+            let tol = Tolerances {
+                rtol: 0.0,
+                atol_pos,
+                atol_vel,
+                h_max_s: 2.0 * h,
+                h_init_s: h,
+                ..Default::default()
+            };
+            let mut ig =
+                GglBdf::new(sys.clone(), tol, 0.0, x0.to_vec(), vec![0.0; 6], vec![]).unwrap();
+            let t_n = 30.0 * h;
+            (ig.y, ig.yd) = exact(t_n);
+            ig.prev = Some((t_n - h, exact(t_n - h).0));
+            (ig.t, ig.h_ctrl) = (t_n, 2.0 * h);
+            let st = ig.advance_to(t_n + w * h, &mut |_, _| Ok(())).unwrap();
+            assert_eq!((st.steps, st.rejected_steps), (1, 0));
+            let (y_exact, _) = exact(t_n + w * h);
+            // The norm's four components: x, y, vx, vy (y stays 0).
+            let ex = (ig.x()[0] - y_exact[0]) / atol_pos;
+            let ev = (ig.v()[0] - y_exact[6]) / atol_vel;
+            let actual = ((ex * ex + ev * ev) / 4.0).sqrt();
+            let ratio = ig.last_error_estimate / actual;
+            println!(
+                "w = {w}: estimate {:.4e}, actual {actual:.4e}, ratio {ratio:.4}",
+                ig.last_error_estimate
+            );
+            assert!(
+                actual > 1e-12,
+                "the local error must dwarf round-off ({actual})"
+            );
+            assert!(
+                (ratio - 1.0).abs() < 0.02,
+                "w = {w}: estimate / actual = {ratio}"
+            );
+        }
     }
 }
