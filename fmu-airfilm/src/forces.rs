@@ -103,12 +103,9 @@ pub fn mass_times_rt_j(prm: &BearingParams, mesh: &Mesh, gap: &GapField, p: &[f6
         let pb = &p[k * mesh.npb..(k + 1) * mesh.npb];
         for (e, nodes) in mesh.elem.iter().enumerate() {
             let col = mesh.elem_col[e] as usize;
+            let pq = at_gauss_points(&b.n, nodes, pb);
             for q in 0..9 {
-                let mut pq = 0.0;
-                for a in 0..9 {
-                    pq += b.n[q][a] * pb[nodes[a] as usize];
-                }
-                m += b.w[q] * jac * pq * gap.h[k * nq + 3 * col + q / 3];
+                m += b.w[q] * jac * pq[q] * gap.h[k * nq + 3 * col + q / 3];
             }
         }
     }
