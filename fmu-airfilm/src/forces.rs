@@ -5,7 +5,7 @@
 //! F = -2 p_a r^2 Int (P - 1) (cos theta, sin theta) dphi dzeta.
 
 use crate::geometry::{gap_m, GapField, Geometry};
-use crate::mesh::{shape1, Mesh, GAUSS3_W, GAUSS3_X};
+use crate::mesh::{at_gauss_points, shape1, Mesh, GAUSS3_W, GAUSS3_X};
 use crate::params::BearingParams;
 use crate::JournalState;
 use serde::{Deserialize, Serialize};
@@ -74,23 +74,6 @@ pub fn pressure_force_n(prm: &BearingParams, mesh: &Mesh, geom: &Geometry, p: &[
     }
     let s = -2.0 * prm.p_a_pa * prm.bore.r_m * prm.bore.r_m;
     [s * fx, s * fy]
-}
-
-/// The values at the element's nine Gauss points of the field whose nodal values are `pb`, with
-/// the shape-function table `shape` (`Basis::n`, or a derivative's `Basis::dx`): sum over the
-/// nodes a = 0..9 of shape[q][a] pb[node a]. The element's nodal values are gathered once and the
-/// nine sums advance together, node by node (lanes over q): each sum still adds its terms in node
-/// order, as the loop per Gauss point did, so the values are the same to the bit.
-#[inline(always)]
-pub(crate) fn at_gauss_points(shape: &[[f64; 9]; 9], nodes: &[u32; 9], pb: &[f64]) -> [f64; 9] {
-    let pe: [f64; 9] = std::array::from_fn(|a| pb[nodes[a] as usize]);
-    let mut v = [0.0; 9];
-    for (a, &pa) in pe.iter().enumerate() {
-        for q in 0..9 {
-            v[q] += shape[q][a] * pa;
-        }
-    }
-    v
 }
 
 /// Film gas mass times R T (J): Int p h dA over the full width.
@@ -169,34 +152,4 @@ pub fn mass_outflow_times_rt_w(
         }
     }
     2.0 * prm.p_a_pa * prm.p_a_pa * c.powi(3) / (12.0 * prm.eta_pa_s) * flow
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::test_rng::symmetric;
-
-    /// The lanes over Gauss points give the loop per Gauss point's values to the bit, for the
-    /// shape functions and their derivative, on every element of the paper mesh with random
-    /// nodal values of mixed magnitude.
-    #[test]
-    fn gauss_point_values_in_lanes_equal_the_loop_per_point_bit_for_bit() {
-        let mesh = Mesh::new(&BearingParams::paper());
-        let mut seed = 0x9e37_79b9_7f4a_7c15;
-        let pb: Vec<f64> = (0..mesh.npb)
-            .map(|i| symmetric(&mut seed) * 10f64.powi((i % 7) as i32 - 3))
-            .collect();
-        for shape in [&mesh.basis.n, &mesh.basis.dx] {
-            for nodes in &mesh.elem {
-                let lanes = at_gauss_points(shape, nodes, &pb);
-                for (q, &v) in lanes.iter().enumerate() {
-                    let mut per_point = 0.0;
-                    for a in 0..9 {
-                        per_point += shape[q][a] * pb[nodes[a] as usize];
-                    }
-                    assert_eq!(v.to_bits(), per_point.to_bits(), "Gauss point {q}");
-                }
-            }
-        }
-    }
 }

@@ -93,7 +93,7 @@ pub fn friction_torque(
         for (e, nodes) in mesh.elem.iter().enumerate() {
             let col = mesh.elem_col[e] as usize;
             // dP/dxi at the Gauss points (dP/dphi = 2 / dphi_e of it).
-            let dp = crate::forces::at_gauss_points(&b.dx, nodes, pb);
+            let dp = crate::mesh::at_gauss_points(&b.dx, nodes, pb);
             for q in 0..9 {
                 let gi = k * geom.nq + 3 * col + q / 3;
                 let w = b.w[q] * jac;

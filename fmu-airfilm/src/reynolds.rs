@@ -16,7 +16,7 @@
 
 use crate::geometry::GapField;
 use crate::linsolve::BandLu;
-use crate::mesh::Mesh;
+use crate::mesh::{gather, Mesh};
 
 /// Scalar coefficients of one evaluation.
 #[derive(Clone, Copy, Debug)]
@@ -27,15 +27,6 @@ pub struct Coeffs {
     pub tau_s: f64,
     /// Leading BDF coefficient c0 (1/s): dP/dt = c0 P - hist. 0 for steady state.
     pub c0_per_s: f64,
-}
-
-#[inline(always)]
-fn gather(e: &[u32; 9], v: &[f64]) -> [f64; 9] {
-    let mut out = [0.0; 9];
-    for a in 0..9 {
-        out[a] = v[e[a] as usize];
-    }
-    out
 }
 
 /// Lanes of the residual's per-element arrays: the 9 Gauss points (or 9 nodes) padded to 12, three
