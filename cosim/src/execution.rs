@@ -44,6 +44,15 @@ fn output_time(k: u64, interval: f64) -> f64 {
     k as f64 * interval
 }
 
+/// Index of the first output time after the macro point `t` (macro step `h`).
+fn first_output_after(t: f64, interval: f64, h: f64) -> u64 {
+    let mut next = ((t + 1e-9 * h) / interval).floor().max(0.0) as u64;
+    while output_time(next, interval) <= t + 1e-9 * h {
+        next += 1;
+    }
+    next
+}
+
 /// Runs `system_path` into `cfg.out_dir` (copying the system file there), or resumes from the
 /// checkpoint in `cfg.out_dir` when `resume` is set. Observers see every sample and event; the
 /// report comes back also when the run failed or was interrupted (`Err` only when it could not
@@ -175,7 +184,11 @@ struct Execution<'a> {
     by_sub: Vec<(usize, Vec<u32>, Vec<usize>)>,
     values: Vec<f64>,
     scratch: Vec<f64>,
-    /// Macro steps taken (from the checkpoint on resume).
+    /// The recorded values at the start of a long step, and the rows interpolated inside it.
+    values_before: Vec<f64>,
+    interpolated: Vec<f64>,
+    /// Base-step grid intervals covered (a long step of `step_plan` covers several; from the
+    /// checkpoint on resume).
     step_index: u64,
     /// Wall time of the run before this process (a resumed run's earlier parts) [s].
     wall_before_s: f64,
@@ -209,6 +222,8 @@ impl<'a> Execution<'a> {
             by_sub,
             values: vec![0.0; n],
             scratch: vec![0.0; n],
+            values_before: vec![0.0; n],
+            interpolated: vec![0.0; n],
             step_index: 0,
             wall_before_s: 0.0,
             identity,
@@ -263,6 +278,13 @@ impl<'a> Execution<'a> {
         let cosim = &self.built.cosim;
         report.t_end_s = cosim.time_s();
         report.macro_steps = self.step_index;
+        if let Some(plan) = &self.built.long_steps {
+            let n_steps = step_count(self.built.stop_time_s, self.built.macro_step_s);
+            let (steps, long) =
+                plan.macro_steps_to(self.step_index, self.built.macro_step_s, n_steps);
+            report.macro_steps = steps;
+            report.long_macro_steps = Some(long);
+        }
         report.retries = cosim.macro_steps().1;
         report.control = cosim.control_stats();
         report.group_stepping = cosim.stepping_stats();
@@ -328,10 +350,7 @@ impl<'a> Execution<'a> {
                 for o in observers.iter_mut() {
                     o.sample(t, &self.values)?;
                 }
-                next_output = ((t + 1e-9 * h) / interval).floor().max(0.0) as u64;
-                while output_time(next_output, interval) <= t + 1e-9 * h {
-                    next_output += 1;
-                }
+                next_output = first_output_after(t, interval, h);
             }
             for o in observers.iter_mut() {
                 o.macro_point(&self.built.cosim, stop);
@@ -363,7 +382,19 @@ impl<'a> Execution<'a> {
             if stopping {
                 return Ok(End::Interrupted);
             }
-            let target = grid_time(self.step_index + 1, h, stop);
+            // A long step (`step_plan`) covers several grid intervals; the rows a run of base
+            // steps would have written at the grid points it passes are interpolated linearly
+            // between its ends (the plan's windows are where the system is calm).
+            let m = self
+                .built
+                .long_steps
+                .as_ref()
+                .map_or(1, |p| p.base_steps_from(self.step_index, h, n_steps));
+            if m > 1 {
+                self.record()?;
+                self.values_before.clone_from(&self.values);
+            }
+            let target = grid_time(self.step_index + m, h, stop);
             let r = self.built.cosim.step(target - t);
             // Events first: a roll-back the step made is reported also when the step then failed.
             for e in self.built.cosim.drain_events() {
@@ -372,7 +403,28 @@ impl<'a> Execution<'a> {
                 }
             }
             r.map_err(|e| e.to_string())?;
-            self.step_index += 1;
+            if m > 1 {
+                self.record()?;
+                for i in 1..m {
+                    let g = grid_time(self.step_index + i, h, stop);
+                    if output_time(next_output, interval) <= g + 1e-9 * h {
+                        let w = (g - t) / (target - t);
+                        for ((v, &a), &b) in self
+                            .interpolated
+                            .iter_mut()
+                            .zip(&self.values_before)
+                            .zip(&self.values)
+                        {
+                            *v = a + w * (b - a);
+                        }
+                        for o in observers.iter_mut() {
+                            o.sample(g, &self.interpolated)?;
+                        }
+                        next_output = first_output_after(g, interval, h);
+                    }
+                }
+            }
+            self.step_index += m;
         }
     }
 }

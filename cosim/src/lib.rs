@@ -7,7 +7,8 @@
 //!   initialize: a [`Built`] co-simulation.
 //! - [`algorithm`]: the macro step ([`CoSim`]): Gauss-Seidel or Jacobi with input polynomials
 //!   ([`polynomial`]), parallel groups ([`parallel`]), roll-back and replay, macro-step control
-//!   ([`step_control`]); [`subsystem`]: one FMU instance in it.
+//!   ([`step_control`]); [`subsystem`]: one FMU instance in it. [`step_plan`]: longer macro
+//!   steps in time windows the caller declares calm.
 //! - [`execution`]: the run loop to the stop time, checkpoints ([`checkpoint`]) and resume;
 //!   everything that watches a run is an [`Observer`] ([`observer`]), such as the CSV writer
 //!   ([`timeseries::CsvObserver`]).
@@ -30,6 +31,7 @@ pub mod setup;
 pub mod slave;
 pub mod ssp;
 pub mod step_control;
+pub mod step_plan;
 pub mod subsystem;
 pub mod system;
 pub mod timeseries;
@@ -41,4 +43,5 @@ pub use observer::{Observer, RunStart};
 pub use report::RunReport;
 pub use setup::{build, Built, Recorded};
 pub use step_control::{ControlStats, StepControl};
+pub use step_plan::LongSteps;
 pub use system::{System, SystemError};

@@ -9,7 +9,10 @@ pub struct RunReport {
     pub interrupted: bool,
     pub error: Option<String>,
     pub t_end_s: f64,
+    /// Macro steps taken (a long step counts once).
     pub macro_steps: u64,
+    /// Of those, the long ones (`step_plan`; None without a plan).
+    pub long_macro_steps: Option<u64>,
     pub retries: u64,
     pub wall_time_s: f64,
     /// Wall time in each subsystem's fmi2DoStep, and everything else (the master's own work).

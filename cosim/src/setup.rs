@@ -3,6 +3,7 @@
 use crate::algorithm::{AlgorithmConfig, CoSim, Scheme};
 use crate::slave::{Fmu, Slave};
 use crate::step_control::StepControl;
+use crate::step_plan::LongSteps;
 use crate::subsystem::{Link, Subsystem};
 use crate::system::{split_port, split_quantity, System, SystemError};
 use fmi2::importer::{LogHandler, ModelDescription};
@@ -19,6 +20,8 @@ pub const MAX_OUTPUT_ROWS: f64 = 1e8;
 pub struct Built {
     pub cosim: CoSim,
     pub macro_step_s: f64,
+    /// Longer macro steps in given windows (None: every step is `macro_step_s`).
+    pub long_steps: Option<LongSteps>,
     pub stop_time_s: f64,
     pub output_interval_s: f64,
     /// The variables the system file asks to record, in column order.
@@ -195,6 +198,17 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
             None => SystemError(format!("{}: {field}: {msg}", sys.path.display())),
         });
     }
+    let long_steps = match &alg.long_steps {
+        None => None,
+        Some(e) => {
+            let l = e.get_ref();
+            let windows = l.windows.iter().map(|w| (w[0], w[1])).collect();
+            Some(
+                LongSteps::new(l.factor, windows)
+                    .map_err(|msg| sys.error_at(e, "algorithm.long_steps", msg))?,
+            )
+        }
+    };
     let scheme = match alg.kind.get_ref().as_str() {
         "gauss-seidel" => Scheme::GaussSeidel,
         "jacobi" => Scheme::Jacobi,
@@ -379,6 +393,7 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
     Ok(Built {
         cosim,
         macro_step_s,
+        long_steps,
         stop_time_s,
         output_interval_s,
         recorded,

@@ -20,6 +20,8 @@
 //! # optional: refine the macro step (down to 1/64) where an extrapolated input misses the
 //! # actual output at T_N+1 by more than atol + rtol |u| (units of those inputs; needs rollback)
 //! step_control = { rtol = 0.1, atol = 1.0 }
+//! # optional: macro steps of `factor` x macro_step inside these windows of time [s]
+//! long_steps = { factor = 2, windows = [[0.08, 0.55]] }
 //!
 //! [output]
 //! interval = "100 us"
@@ -70,6 +72,18 @@ pub struct AlgorithmEntry {
     /// Macro-step control by the coupling error (off when absent).
     #[serde(default)]
     pub step_control: Option<Spanned<StepControlEntry>>,
+    /// Longer macro steps in given windows of time (`step_plan`; none when absent).
+    #[serde(default)]
+    pub long_steps: Option<Spanned<LongStepsEntry>>,
+}
+
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LongStepsEntry {
+    /// Base macro steps per long step.
+    pub factor: u64,
+    /// [start, end] in seconds of simulated time, ordered.
+    pub windows: Vec<[f64; 2]>,
 }
 
 #[derive(Debug, Deserialize)]

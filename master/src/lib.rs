@@ -3,6 +3,7 @@
 //! `main.rs` is only the command line.
 
 pub mod analysis;
+pub mod calm_steps;
 pub mod design;
 pub mod export_ssp;
 pub mod fmu_params;

@@ -446,8 +446,13 @@ fn main() -> ExitCode {
     quiet_on_closed_stdout(&cli.command);
     let result: Result<ExitCode, String> = (|| match cli.command {
         Command::Runup { args, common } => {
-            let s = master::runup_cli::settings(&args)?;
+            let mut s = master::runup_cli::settings(&args)?;
             s.validate_runup()?;
+            if let (Some(calm_us), Some(_)) = (s.calm_macro_step_us, s.calm_factor()) {
+                let plan = master::calm_steps::plan(&s);
+                s.calm_windows_s = plan.windows_s.clone();
+                eprintln!("{}", master::calm_steps::describe(&plan, calm_us));
+            }
             let dir = fmu_dir(args.fmu_dir.clone())?;
             // TOML is UTF-8: a folder whose name is not cannot be written into a system file.
             let dir_text = dir.to_str().ok_or_else(|| {

@@ -21,6 +21,13 @@ pub struct RunupSettings {
     pub speed_profile: Vec<(f64, f64)>,
     pub stop_time_s: f64,
     pub macro_step_us: f64,
+    /// Macro step [us] while the rotor is calm (`crate::calm_steps`): an integer multiple of
+    /// `macro_step_us`; None: every macro step is `macro_step_us` (`--calm-macro-step off`).
+    pub calm_macro_step_us: Option<f64>,
+    /// The windows of simulated time [s] the calm macro step is taken in, found by
+    /// `crate::calm_steps::plan` before the run (empty until then, and where nothing is calm).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub calm_windows_s: Vec<(f64, f64)>,
     pub extrapolation_order: u8,
     pub interpolation_order: u8,
     pub n_elem_phi: u32,
@@ -99,6 +106,8 @@ impl RunupSettings {
             speed_profile: Vec::new(),
             stop_time_s: 3.0,
             macro_step_us: DEFAULT_MACRO_STEP_US,
+            calm_macro_step_us: Some(DEFAULT_CALM_MACRO_STEP_US),
+            calm_windows_s: Vec::new(),
             extrapolation_order: DEFAULT_EXTRAPOLATION_ORDER,
             interpolation_order: DEFAULT_INTERPOLATION_ORDER,
             n_elem_phi: 20,
@@ -148,6 +157,15 @@ impl RunupSettings {
             return Err(format!("--dh = {} um must be >= 0", self.dh_um));
         }
 
+        if let Some(calm) = self.calm_macro_step_us {
+            self.calm_factor().ok_or_else(|| {
+                format!(
+                    "--calm-macro-step = {calm} us must be a multiple (2x or more) of the macro \
+                     step ({} us), or \"off\"",
+                    self.macro_step_us
+                )
+            })?;
+        }
         if self.extrapolation_order > 2 || self.interpolation_order > 2 {
             return Err("polynomial orders must be 0, 1 or 2".into());
         }
@@ -159,6 +177,18 @@ impl RunupSettings {
         }
         self.checked_fmu_parameters()?;
         Ok(())
+    }
+
+    /// Base macro steps per calm macro step: Some(n >= 2) when `calm_macro_step_us` is n times
+    /// `macro_step_us` (within rounding), None when it is off or not such a multiple.
+    pub fn calm_factor(&self) -> Option<u64> {
+        let calm = self.calm_macro_step_us?;
+        let n = (calm / self.macro_step_us).round();
+        let fits = calm.is_finite()
+            && n >= 2.0
+            && n <= cosim::step_plan::MAX_FACTOR as f64
+            && (calm - n * self.macro_step_us).abs() <= 1e-9 * calm;
+        fits.then_some(n as u64)
     }
 
     /// `validate`, and what only a co-simulated run-up needs: with the contact in the rotor, both
@@ -399,6 +429,13 @@ impl RunupSettings {
                 step_control: self
                     .step_control
                     .map(|[rtol, atol]| StepControl { rtol, atol }),
+                long_steps: self
+                    .calm_factor()
+                    .filter(|_| !self.calm_windows_s.is_empty())
+                    .map(|factor| LongSteps {
+                        factor,
+                        windows: self.calm_windows_s.iter().map(|&(a, b)| [a, b]).collect(),
+                    }),
             },
             output: Output {
                 interval: format!("{} us", self.output_interval_us),
@@ -446,6 +483,14 @@ struct Algorithm {
     interpolation_order: u8,
     #[serde(skip_serializing_if = "Option::is_none")]
     step_control: Option<StepControl>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    long_steps: Option<LongSteps>,
+}
+
+#[derive(serde::Serialize)]
+struct LongSteps {
+    factor: u64,
+    windows: Vec<[f64; 2]>,
 }
 
 #[derive(serde::Serialize)]
@@ -591,6 +636,11 @@ pub const RECORDED: &[&str] = &[
 /// for cross-checks. 100 us was not adopted (weakly unstable whirls become visible up to 6.7 %
 /// early with either order).
 pub const DEFAULT_MACRO_STEP_US: f64 = 50.0;
+/// Default macro step while the rotor is calm [us] (`crate::calm_steps`): where every mode of the
+/// linearized rotor has a damping ratio of 0.05 or more, before any instability. 100 us is the
+/// air films' own largest step (`h_max`), so they take one sub-step per macro step there instead
+/// of two.
+pub const DEFAULT_CALM_MACRO_STEP_US: f64 = 100.0;
 /// Default interval of the recorded time series [us].
 pub const DEFAULT_OUTPUT_INTERVAL_US: f64 = 50.0;
 /// Largest internal step of the rotor FMU in a run-up [us] (its own default is 100 us). The

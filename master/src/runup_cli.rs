@@ -29,6 +29,11 @@ pub struct RunupArgs {
     /// previous default, for cross-checks]
     #[arg(long)]
     pub macro_step: Option<f64>,
+    /// Macro step [us] before the rotor nears any instability, where the linear stability
+    /// analysis finds every mode damped by 5 % or more (docs/convergence.md, "Calm macro
+    /// steps"); a multiple of --macro-step, or "off" [default: 100]
+    #[arg(long)]
+    pub calm_macro_step: Option<String>,
     /// Extrapolation order of the rotor's inputs (0, 1, 2) [default: 2]
     #[arg(long)]
     pub extrapolation_order: Option<u8>,
@@ -120,6 +125,18 @@ pub fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     let profile_end = s.speed_profile.last().map(|p| p.0);
     s.stop_time_s = a.stop.or(profile_end).unwrap_or(s.t_ramp_s);
     s.macro_step_us = a.macro_step.unwrap_or(s.macro_step_us);
+    if let Some(c) = &a.calm_macro_step {
+        s.calm_macro_step_us = match c.trim() {
+            "off" => None,
+            t => Some(t.parse::<f64>().map_err(|_| {
+                format!("--calm-macro-step '{c}': expected a number of microseconds or \"off\"")
+            })?),
+        };
+    } else if a.macro_step.is_some() {
+        // A macro step of the user's own (a cross-check): every step at it unless calm steps
+        // are asked for as well.
+        s.calm_macro_step_us = None;
+    }
     s.extrapolation_order = a.extrapolation_order.unwrap_or(s.extrapolation_order);
     s.interpolation_order = a.interpolation_order.unwrap_or(s.interpolation_order);
     s.output_interval_us = a.output_interval.unwrap_or(s.output_interval_us);

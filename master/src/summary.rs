@@ -48,6 +48,10 @@ pub struct RunSummary {
     pub error: Option<String>,
     pub t_end_s: Option<f64>,
     pub macro_steps: Option<u64>,
+    /// Of those, the long steps taken where the run was planned calm (`calm_steps` in the
+    /// settings; None: no plan, or a folder of an earlier version).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub long_macro_steps: Option<u64>,
     pub retried_macro_steps: Option<u64>,
     pub macro_step_control: Option<ControlStats>,
     pub wall_time_s: Option<f64>,
@@ -110,6 +114,7 @@ impl RunSummary {
             error: report.error.clone(),
             t_end_s: Some(report.t_end_s),
             macro_steps: Some(report.macro_steps),
+            long_macro_steps: report.long_macro_steps,
             retried_macro_steps: Some(report.retries),
             macro_step_control: report.control,
             group_stepping: report.group_stepping,

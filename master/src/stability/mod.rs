@@ -163,6 +163,46 @@ fn analyse_speed(
     Ok((res, eq))
 }
 
+/// One speed's analysis, or why it failed.
+pub type SpeedOutcome = Result<(SpeedResult, [SolvedBearing; 2]), String>;
+
+/// Every speed of `speeds_hz` analysed on its own (cold-started equilibria), on all cores (std
+/// threads, strided split); the results keep the grid order, a failed speed fails alone.
+pub fn per_speed(
+    rotor: &RotorParams,
+    films: &[BearingParams; 2],
+    speeds_hz: &[f64],
+) -> Vec<SpeedOutcome> {
+    let n_threads = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(speeds_hz.len())
+        .max(1);
+    let mut slots: Vec<Option<SpeedOutcome>> = (0..speeds_hz.len()).map(|_| None).collect();
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..n_threads)
+            .map(|t| {
+                scope.spawn(move || {
+                    (t..speeds_hz.len())
+                        .step_by(n_threads)
+                        .map(|i| {
+                            let f = speeds_hz[i];
+                            let r = analyse_speed(rotor, films, f, None)
+                                .map_err(|e| format!("at {f} Hz: {e}"));
+                            (i, r)
+                        })
+                        .collect::<Vec<_>>()
+                })
+            })
+            .collect();
+        for h in handles {
+            for (i, r) in h.join().expect("stability worker panicked") {
+                slots[i] = Some(r);
+            }
+        }
+    });
+    slots.into_iter().flatten().collect()
+}
+
 /// Campbell data over `speeds_hz` (ascending, > 0) and the threshold speed of instability.
 pub fn analyse(s: &RunupSettings, speeds_hz: &[f64]) -> Result<StabilityReport, String> {
     analyse_with_equilibria(s, speeds_hz).map(|(r, _)| r)
@@ -190,37 +230,7 @@ pub fn analyse_with_equilibria(
     if speeds_hz.is_empty() || speeds_hz.iter().any(|f| !(f.is_finite() && *f > 0.0)) {
         return Err("speeds must be finite and > 0 Hz".into());
     }
-    // Independent speeds on all cores (cold-started equilibria; std threads, strided split);
-    // results keep the grid order.
-    type SpeedOut = Result<(SpeedResult, [SolvedBearing; 2]), String>;
-    let n_threads = std::thread::available_parallelism()
-        .map_or(1, |n| n.get())
-        .min(speeds_hz.len());
-    let mut slots: Vec<Option<SpeedOut>> = (0..speeds_hz.len()).map(|_| None).collect();
-    std::thread::scope(|scope| {
-        let handles: Vec<_> = (0..n_threads)
-            .map(|t| {
-                let (rotor, films) = (&rotor, &films);
-                scope.spawn(move || {
-                    (t..speeds_hz.len())
-                        .step_by(n_threads)
-                        .map(|i| {
-                            let f = speeds_hz[i];
-                            let r = analyse_speed(rotor, films, f, None)
-                                .map_err(|e| format!("at {f} Hz: {e}"));
-                            (i, r)
-                        })
-                        .collect::<Vec<_>>()
-                })
-            })
-            .collect();
-        for h in handles {
-            for (i, r) in h.join().expect("stability worker panicked") {
-                slots[i] = Some(r);
-            }
-        }
-    });
-    let results = slots.into_iter().flatten();
+    let results = per_speed(&rotor, &films, speeds_hz).into_iter();
     let mut speeds = Vec::with_capacity(speeds_hz.len());
     let mut solved = Vec::with_capacity(speeds_hz.len());
     for r in results {

@@ -1,0 +1,204 @@
+//! Long macro steps in declared windows (`cosim::step_plan`) on the packed test FMU
+//! (`oscillator.fmu`; build it first with `cargo xtask fmus`): the run keeps the rows of its base
+//! grid, runs unchanged outside the windows, counts its steps, resumes bit for bit, and refuses a
+//! bad plan with the file, line and field.
+
+mod common;
+
+use common::{fmu_dir, tmp};
+use cosim::timeseries::CsvObserver;
+use cosim::{RunConfig, RunReport};
+use std::path::Path;
+use std::sync::Arc;
+
+fn run(system: &Path, cfg: &RunConfig, resume: bool) -> Result<RunReport, cosim::RunError> {
+    let mut csv = CsvObserver::new(cfg.out_dir.join("timeseries.csv"));
+    cosim::run(
+        system,
+        cfg,
+        resume,
+        Arc::new(|_: &fmi2::importer::LogRecord| {}),
+        &mut [&mut csv],
+    )
+}
+
+/// Two unit-mass oscillators (k = 4 pi^2) coupled through their inputs, F_a = x_b, F_b = x_a,
+/// Gauss-Seidel with second-order polynomials, a row every 10 ms; `long` is an optional
+/// `long_steps = ...` line.
+fn system(h: f64, stop: f64, long: &str) -> String {
+    format!(
+        r#"
+[[fmu]]
+name = "a"
+path = "{fmu}/oscillator.fmu"
+parameters = {{ x0 = "1 m" }}
+
+[[fmu]]
+name = "b"
+path = "{fmu}/oscillator.fmu"
+
+[[connection]]
+from = "a.x"
+to = "b.F"
+
+[[connection]]
+from = "b.x"
+to = "a.F"
+
+[algorithm]
+kind = "gauss-seidel"
+macro_step = {h:?}
+stop_time = {stop:?}
+extrapolation_order = 2
+interpolation_order = 2
+{long}
+
+[output]
+interval = 0.01
+variables = ["a.x", "b.x"]
+"#,
+        fmu = fmu_dir().display()
+    )
+}
+
+/// x_a(t) for x_a(0) = 1, x_b(0) = 0 at rest: modes x_a +- x_b with w^2 -+ 1.
+fn exact_xa(t: f64) -> f64 {
+    let w2 = 4.0 * std::f64::consts::PI.powi(2);
+    let (w1, w2b) = ((w2 - 1.0).sqrt(), (w2 + 1.0).sqrt());
+    0.5 * ((w1 * t).cos() + (w2b * t).cos())
+}
+
+fn run_text(name: &str, text: &str) -> (RunReport, Vec<Vec<f64>>) {
+    let dir = tmp(name);
+    let sys = dir.join("system.toml");
+    std::fs::write(&sys, text).unwrap();
+    let report = run(&sys, &RunConfig::new(&dir), false).unwrap();
+    assert!(report.completed, "{report:?}");
+    let (_, rows) = cosim::timeseries::read(&dir.join("timeseries.csv")).unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
+    (report, rows)
+}
+
+const WINDOW: &str = "long_steps = { factor = 2, windows = [[0.2, 0.6]] }";
+
+#[test]
+fn long_steps_keep_the_base_grid_rows_and_change_nothing_outside_their_window() {
+    let (base, rows_base) = run_text("long-base", &system(0.01, 1.0, ""));
+    let (long, rows_long) = run_text("long-plan", &system(0.01, 1.0, WINDOW));
+    let (_, rows_coarse) = run_text("long-coarse", &system(0.02, 1.0, ""));
+    assert_eq!(base.macro_steps, 100);
+    assert_eq!(base.long_macro_steps, None);
+    // [0.2, 0.6] s: 20 steps of 20 ms in place of 40 of 10 ms.
+    assert_eq!((long.macro_steps, long.long_macro_steps), (80, Some(20)));
+    // The same rows at the same times: one every 10 ms.
+    assert_eq!(rows_long.len(), 101);
+    for (l, b) in rows_long.iter().zip(&rows_base) {
+        assert_eq!(l[0].to_bits(), b[0].to_bits());
+    }
+    // Before the window the runs are the same run, bit for bit.
+    for (l, b) in rows_long
+        .iter()
+        .zip(&rows_base)
+        .take_while(|(l, _)| l[0] <= 0.2 + 1e-12)
+    {
+        assert_eq!(
+            (l[1].to_bits(), l[2].to_bits()),
+            (b[1].to_bits(), b[2].to_bits()),
+            "t {}",
+            l[0]
+        );
+    }
+    // Inside it, the rows between the ends of a long step are interpolated between them.
+    for i in (21..60).step_by(2) {
+        for c in 1..3 {
+            let mid = 0.5 * (rows_long[i - 1][c] + rows_long[i + 1][c]);
+            assert!((rows_long[i][c] - mid).abs() <= 1e-15, "row {i}");
+        }
+    }
+    // Accuracy between the base step's and the long step's: the largest error against the exact
+    // solution at the long steps' own points, and after the window.
+    let err = |rows: &[Vec<f64>], keep: &dyn Fn(usize) -> bool| {
+        rows.iter()
+            .enumerate()
+            .filter(|(i, _)| keep(*i))
+            .map(|(_, r)| (r[1] - exact_xa(r[0])).abs())
+            .fold(0.0, f64::max)
+    };
+    let macro_points = |i: usize| !(21..60).contains(&i) || i.is_multiple_of(2);
+    let (e_base, e_long, e_coarse) = (
+        err(&rows_base, &macro_points),
+        err(&rows_long, &macro_points),
+        err(&rows_coarse, &macro_points),
+    );
+    println!(
+        "max error of x_a: base {e_base:.3e}, long steps {e_long:.3e}, 2x steps {e_coarse:.3e}"
+    );
+    assert!(
+        e_base < e_long && e_long < e_coarse,
+        "{e_base} {e_long} {e_coarse}"
+    );
+}
+
+#[test]
+fn a_run_with_long_steps_resumes_bit_for_bit() {
+    let dir_full = tmp("long-full");
+    let dir_cut = tmp("long-cut");
+    let text = system(0.01, 1.0, WINDOW);
+    let sys = dir_full.join("input.toml");
+    std::fs::write(&sys, &text).unwrap();
+    let full = run(&sys, &RunConfig::new(&dir_full), false).unwrap();
+    // Halted inside the window, where the macro points are every 20 ms.
+    let o = RunConfig {
+        checkpoint_every_s: Some(0.05),
+        halt_at_s: Some(0.333),
+        ..RunConfig::new(&dir_cut)
+    };
+    let first = run(&sys, &o, false).unwrap();
+    assert!(first.interrupted && !first.completed);
+    let second = run(
+        &dir_cut.join("system.toml"),
+        &RunConfig::new(&dir_cut),
+        true,
+    )
+    .unwrap();
+    assert!(second.completed);
+    assert_eq!(
+        (second.macro_steps, second.long_macro_steps),
+        (full.macro_steps, full.long_macro_steps)
+    );
+    let a = std::fs::read(dir_full.join("timeseries.csv")).unwrap();
+    let b = std::fs::read(dir_cut.join("timeseries.csv")).unwrap();
+    assert!(a == b, "resumed series differs from the uninterrupted one");
+    let _ = std::fs::remove_dir_all(&dir_full);
+    let _ = std::fs::remove_dir_all(&dir_cut);
+}
+
+#[test]
+fn a_bad_plan_is_refused_with_file_line_and_field() {
+    for (plan, says) in [
+        (
+            "long_steps = { factor = 0, windows = [[0.2, 0.6]] }",
+            "factor 0",
+        ),
+        (
+            "long_steps = { factor = 2, windows = [[0.2, 0.6], [0.5, 0.7]] }",
+            "overlap",
+        ),
+        (
+            "long_steps = { factor = 2, windows = [[0.6, 0.2]] }",
+            "start < end",
+        ),
+    ] {
+        let dir = tmp("long-bad");
+        let sys = dir.join("system.toml");
+        std::fs::write(&sys, system(0.01, 1.0, plan)).unwrap();
+        let e = run(&sys, &RunConfig::new(&dir), false)
+            .expect_err("refused")
+            .to_string();
+        assert!(
+            e.contains("system.toml:") && e.contains("algorithm.long_steps") && e.contains(says),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

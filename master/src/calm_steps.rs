@@ -1,0 +1,198 @@
+//! Where a run-up may take long macro steps: before the rotor comes near any instability.
+//!
+//! Why: a stable run-up spends 3 s of simulated time at the quiet equilibrium, and the films' own
+//! error control would take 100 us steps there, but the 50 us macro step makes them take two.
+//! The macro step is 50 us because of weakly damped and weakly unstable whirl modes: the explicit
+//! coupling adds a small damping error (~(omega h)^3), which moves the onset of a slowly growing
+//! whirl (docs/convergence.md, "A 100 us macro step"). Where every mode is well damped that
+//! error is a small fraction of the mode's own damping and changes nothing that is measured.
+//!
+//! How: the linear stability analysis (`crate::stability`, on a coarse film mesh, ~0.4 s) gives
+//! the least damping ratio of all modes at speeds every 50 Hz along the speed profile. The run is
+//! calm from the first time the speed lies on that grid with both neighbouring grid speeds
+//! analysed and the interpolated least damping ratio at least [`CALM_DAMPING_RATIO`], until the
+//! first time it is not. Only that first stretch: after a loss of damping the rotor may carry a
+//! whirl the linear model does not see (a large whirl coexisting with a stable equilibrium, a
+//! run-down through a hysteresis), so no window opens again. Speeds where the analysis fails (no
+//! equilibrium, e.g. a journal resting on its ring) are never calm.
+
+use crate::runup::RunupSettings;
+use crate::stability::{params_of, per_speed};
+use fmu_rotor::params::SpeedProfile;
+use serde::Serialize;
+use std::f64::consts::TAU;
+
+/// Least damping ratio of every mode for a calm macro step.
+pub const CALM_DAMPING_RATIO: f64 = 0.05;
+
+/// Speed grid of the analysis [Hz], from this speed up to the profile's highest.
+pub const CALM_SPEED_STEP_HZ: f64 = 50.0;
+
+/// Time resolution of the windows [s].
+const TIME_STEP_S: f64 = 1e-3;
+
+/// What the analysis found and the window it gives.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct CalmPlan {
+    /// [start, end] of simulated time [s] with long macro steps (none or one).
+    pub windows_s: Vec<(f64, f64)>,
+    /// Per grid speed [Hz]: the least damping ratio of all modes, None where the analysis failed.
+    pub least_damping: Vec<(f64, Option<f64>)>,
+    /// Why there is no window although one was asked for (the analysis could not run).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+    pub wall_time_s: f64,
+}
+
+/// The calm window of a run-up with `s`'s parameters and speed profile, its film coefficients on
+/// the coarse mesh of the linear predictions (`sweep_linear::DEFAULT_MESH`).
+pub fn plan(s: &RunupSettings) -> CalmPlan {
+    let t0 = std::time::Instant::now();
+    let mut coarse = s.clone();
+    (coarse.n_elem_phi, coarse.n_elem_z) = crate::sweep_linear::DEFAULT_MESH;
+    let params = params_of(&coarse).and_then(|(rotor, films)| {
+        if rotor.c_c_n_m > 0.0 && rotor.c_t_n_m > 0.0 {
+            Ok((rotor, films))
+        } else {
+            Err("the linear analysis needs ring mount stiffnesses c > 0".into())
+        }
+    });
+    let (rotor, films) = match params {
+        Ok(p) => p,
+        Err(e) => {
+            return CalmPlan {
+                note: Some(e),
+                wall_time_s: t0.elapsed().as_secs_f64(),
+                ..CalmPlan::default()
+            }
+        }
+    };
+    let profile = SpeedProfile::of(&rotor);
+    let speed_hz = |t: f64| profile.rate_rad_s(t) / TAU;
+    let n_t = (s.stop_time_s / TIME_STEP_S).ceil() as usize;
+    let top_hz = (0..=n_t)
+        .map(|i| speed_hz(i as f64 * TIME_STEP_S))
+        .fold(0.0, f64::max);
+    let n_speeds = (top_hz / CALM_SPEED_STEP_HZ).ceil() as usize;
+    let speeds: Vec<f64> = (1..=n_speeds)
+        .map(|i| i as f64 * CALM_SPEED_STEP_HZ)
+        .collect();
+    let least_damping: Vec<(f64, Option<f64>)> = per_speed(&rotor, &films, &speeds)
+        .into_iter()
+        .zip(&speeds)
+        .map(|(r, &f)| (f, r.ok().map(|(res, _)| least_damping_ratio(&res))))
+        .collect();
+    let windows_s = first_calm_window(&least_damping, speed_hz, s.stop_time_s);
+    CalmPlan {
+        windows_s,
+        least_damping,
+        note: None,
+        wall_time_s: t0.elapsed().as_secs_f64(),
+    }
+}
+
+/// One line for the terminal: the window and what it rests on.
+pub fn describe(plan: &CalmPlan, calm_macro_step_us: f64) -> String {
+    let basis = format!(
+        "least damping ratio >= {CALM_DAMPING_RATIO} in the linear analysis, {:.1} s",
+        plan.wall_time_s
+    );
+    match (plan.windows_s.first(), &plan.note) {
+        (Some(&(a, b)), _) => {
+            format!(
+                "calm macro steps of {calm_macro_step_us} us from {a:.3} s to {b:.3} s ({basis})"
+            )
+        }
+        (None, Some(why)) => format!("no calm macro steps: {why}"),
+        (None, None) => format!("no calm macro steps: no calm stretch ({basis})"),
+    }
+}
+
+/// Least damping ratio over the oscillating modes; -1 for a static divergence (a positive real
+/// eigenvalue).
+fn least_damping_ratio(r: &crate::stability::SpeedResult) -> f64 {
+    if r.real_eigenvalues_per_s.iter().any(|&re| re > 0.0) {
+        return -1.0;
+    }
+    r.modes
+        .iter()
+        .map(|m| m.damping_ratio)
+        .fold(f64::INFINITY, f64::min)
+        .min(1.0)
+}
+
+/// The first stretch of time (on a 1 ms grid) in which the least damping ratio, interpolated
+/// between the analysed grid speeds around the speed at that time, is at least
+/// [`CALM_DAMPING_RATIO`]; outside the grid or next to a failed speed it is not calm.
+fn first_calm_window(
+    least_damping: &[(f64, Option<f64>)],
+    speed_hz: impl Fn(f64) -> f64,
+    stop_s: f64,
+) -> Vec<(f64, f64)> {
+    let calm_at = |f: f64| -> bool {
+        let i = least_damping.partition_point(|&(g, _)| g <= f);
+        if i == 0 {
+            return false;
+        }
+        let (f0, z0) = least_damping[i - 1];
+        let (f1, z1) = least_damping.get(i).copied().unwrap_or((f0, z0));
+        match (z0, z1) {
+            (Some(z0), Some(z1)) => {
+                let w = if f1 > f0 { (f - f0) / (f1 - f0) } else { 0.0 };
+                z0 + w * (z1 - z0) >= CALM_DAMPING_RATIO
+            }
+            _ => false,
+        }
+    };
+    let n_t = (stop_s / TIME_STEP_S).ceil() as usize;
+    let time = |i: usize| (i as f64 * TIME_STEP_S).min(stop_s);
+    let Some(first) = (0..=n_t).find(|&i| calm_at(speed_hz(time(i)))) else {
+        return vec![];
+    };
+    let end = (first..=n_t)
+        .find(|&i| !calm_at(speed_hz(time(i))))
+        // The last calm sample ends the window; with none, the run ends calm.
+        .map_or(stop_s, |i| time(i - 1));
+    if end > time(first) {
+        vec![(time(first), end)]
+    } else {
+        vec![]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_window_is_the_first_calm_stretch_only() {
+        // Damping falls below 0.05 between 300 and 350 Hz and recovers above 500 Hz; 450 Hz failed.
+        let zeta = [
+            (50.0, Some(0.2)),
+            (100.0, Some(0.2)),
+            (150.0, Some(0.2)),
+            (200.0, Some(0.1)),
+            (250.0, Some(0.08)),
+            (300.0, Some(0.06)),
+            (350.0, Some(0.04)),
+            (400.0, Some(0.02)),
+            (450.0, None),
+            (500.0, Some(0.2)),
+            (550.0, Some(0.3)),
+        ];
+        // 0 -> 600 Hz in 0.6 s: 1 Hz per ms.
+        let w = first_calm_window(&zeta, |t| 1000.0 * t, 0.6);
+        assert_eq!(w.len(), 1);
+        let (a, b) = w[0];
+        // Calm from 50 Hz; 0.05 is crossed at 325 Hz.
+        assert!((a - 0.050).abs() < 1e-12, "{a}");
+        assert!((b - 0.325).abs() < 1.5e-3, "{b}");
+        // Calm all the way (the speed stays on the grid, and constant after the ramp).
+        let w = first_calm_window(&zeta[..3], |t| (100.0 * t / 0.3).min(100.0), 1.0);
+        assert_eq!(w.len(), 1);
+        assert!((w[0].0 - 0.150).abs() < 1e-12 && w[0].1 == 1.0, "{w:?}");
+        // Nothing calm: no window.
+        let not_calm = [(50.0, Some(0.01)), (100.0, None)];
+        assert!(first_calm_window(&not_calm, |t| 1000.0 * t, 0.2).is_empty());
+    }
+}
