@@ -46,6 +46,13 @@ pub struct MasterState {
     /// Which run this checkpoint belongs to (None in older checkpoints: then unchecked).
     #[serde(default)]
     pub identity: Option<RunIdentity>,
+    /// End of the long-step window the run closed (`step_plan`): no long steps before it.
+    #[serde(default)]
+    pub long_steps_closed_until_s: Option<f64>,
+    /// Macro steps taken and, of them, long ones (None in older checkpoints, which had no long
+    /// steps: then `step_index` steps).
+    #[serde(default)]
+    pub macro_steps_taken: Option<(u64, u64)>,
 }
 
 /// What makes a run itself: a resume continues a checkpoint only into the run that wrote it.
@@ -125,6 +132,8 @@ impl MasterState {
             state_checks: vec![],
             csv_check: None,
             identity: None,
+            long_steps_closed_until_s: None,
+            macro_steps_taken: None,
         }
     }
 

@@ -187,6 +187,12 @@ struct Execution<'a> {
     /// The recorded values at the start of a long step, and the rows interpolated inside it.
     values_before: Vec<f64>,
     interpolated: Vec<f64>,
+    /// End of the long-step window closed by a rejected or discarded step inside it.
+    long_closed_until_s: Option<f64>,
+    /// Times at which this process closed a window.
+    long_closed_at_s: Vec<f64>,
+    /// Macro steps taken and, of them, long ones (the whole run's, across resumes).
+    steps_taken: (u64, u64),
     /// Base-step grid intervals covered (a long step of `step_plan` covers several; from the
     /// checkpoint on resume).
     step_index: u64,
@@ -224,6 +230,9 @@ impl<'a> Execution<'a> {
             scratch: vec![0.0; n],
             values_before: vec![0.0; n],
             interpolated: vec![0.0; n],
+            long_closed_until_s: None,
+            long_closed_at_s: vec![],
+            steps_taken: (0, 0),
             step_index: 0,
             wall_before_s: 0.0,
             identity,
@@ -246,6 +255,12 @@ impl<'a> Execution<'a> {
             o.started(&run_start)?;
         }
         Ok(())
+    }
+
+    /// Rolled-back or rejected attempts so far (they close a long-step window).
+    fn trouble_count(&self) -> u64 {
+        let c = &self.built.cosim;
+        c.macro_steps().1 + c.control_stats().map_or(0, |s| s.rejected)
     }
 
     /// Reads the recorded variables into `values`.
@@ -277,13 +292,10 @@ impl<'a> Execution<'a> {
         }
         let cosim = &self.built.cosim;
         report.t_end_s = cosim.time_s();
-        report.macro_steps = self.step_index;
-        if let Some(plan) = &self.built.long_steps {
-            let n_steps = step_count(self.built.stop_time_s, self.built.macro_step_s);
-            let (steps, long) =
-                plan.macro_steps_to(self.step_index, self.built.macro_step_s, n_steps);
-            report.macro_steps = steps;
-            report.long_macro_steps = Some(long);
+        report.macro_steps = self.steps_taken.0;
+        if self.built.long_steps.is_some() {
+            report.long_macro_steps = Some(self.steps_taken.1);
+            report.long_steps_closed_at_s = self.long_closed_at_s.clone();
         }
         report.retries = cosim.macro_steps().1;
         report.control = cosim.control_stats();
@@ -334,6 +346,8 @@ impl<'a> Execution<'a> {
                 .map_err(|e| e.to_string())?;
             self.step_index = m.step_index;
             next_output = m.next_output_index;
+            self.long_closed_until_s = m.long_steps_closed_until_s;
+            self.steps_taken = m.macro_steps_taken.unwrap_or((m.step_index, 0));
             self.wall_before_s = m.wall_before_s;
         }
         let cfg = self.cfg;
@@ -370,6 +384,8 @@ impl<'a> Execution<'a> {
                     self.wall_before_s + start.elapsed().as_secs_f64(),
                 );
                 m.identity = Some(self.identity.clone());
+                m.long_steps_closed_until_s = self.long_closed_until_s;
+                m.macro_steps_taken = Some(self.steps_taken);
                 for o in observers.iter_mut() {
                     o.checkpoint(&mut m)?;
                 }
@@ -385,11 +401,15 @@ impl<'a> Execution<'a> {
             // A long step (`step_plan`) covers several grid intervals; the rows a run of base
             // steps would have written at the grid points it passes are interpolated linearly
             // between its ends (the plan's windows are where the system is calm).
-            let m = self
-                .built
-                .long_steps
-                .as_ref()
-                .map_or(1, |p| p.base_steps_from(self.step_index, h, n_steps));
+            // A window is closed for good at its first rejected or discarded step.
+            let open = self
+                .long_closed_until_s
+                .is_none_or(|end| t >= end - 1e-9 * h);
+            let m = match &self.built.long_steps {
+                Some(p) if open => p.base_steps_from(self.step_index, h, n_steps),
+                _ => 1,
+            };
+            let trouble_before = self.trouble_count();
             if m > 1 {
                 self.record()?;
                 self.values_before.clone_from(&self.values);
@@ -403,6 +423,18 @@ impl<'a> Execution<'a> {
                 }
             }
             r.map_err(|e| e.to_string())?;
+            if self.trouble_count() > trouble_before {
+                if let Some((_, end)) = self
+                    .built
+                    .long_steps
+                    .as_ref()
+                    .and_then(|p| p.window_at(t, h))
+                    .filter(|&(_, end)| self.long_closed_until_s.is_none_or(|c| c < end))
+                {
+                    self.long_closed_until_s = Some(end);
+                    self.long_closed_at_s.push(t);
+                }
+            }
             if m > 1 {
                 self.record()?;
                 for i in 1..m {
@@ -425,6 +457,8 @@ impl<'a> Execution<'a> {
                 }
             }
             self.step_index += m;
+            self.steps_taken.0 += 1;
+            self.steps_taken.1 += u64::from(m > 1);
         }
     }
 }

@@ -13,6 +13,9 @@ pub struct RunReport {
     pub macro_steps: u64,
     /// Of those, the long ones (`step_plan`; None without a plan).
     pub long_macro_steps: Option<u64>,
+    /// Times [s] at which a rejected or discarded step closed the rest of a long-step window
+    /// (since the start or the resumed checkpoint).
+    pub long_steps_closed_at_s: Vec<f64>,
     pub retries: u64,
     pub wall_time_s: f64,
     /// Wall time in each subsystem's fmi2DoStep, and everything else (the master's own work).

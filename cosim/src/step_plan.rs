@@ -5,7 +5,9 @@
 //! The run keeps its grid of base macro steps (k h, so checkpoints, resume and output times stay
 //! what they are); a long step covers `factor` grid intervals at once. It starts only on a grid
 //! point that is a multiple of `factor` (so the same plan gives the same steps after a resume)
-//! and only when the whole step lies inside a window and before the last grid point.
+//! and only when the whole step lies inside a window and before the last grid point. The run
+//! closes the rest of a window at the first step inside it that is rejected or discarded (the
+//! caller's judgement of calm was wrong there; `execution`), and keeps that in its checkpoints.
 
 /// Windows [start, end] of simulated time [s] in which macro steps of `factor` base steps are
 /// taken. Checked by [`LongSteps::new`]: factor 1..=64, windows finite, ordered, not overlapping.
@@ -68,6 +70,15 @@ impl LongSteps {
         } else {
             1
         }
+    }
+
+    /// The window holding time `t_s` (ends included, to 1e-9 of `h`).
+    pub fn window_at(&self, t_s: f64, h: f64) -> Option<(f64, f64)> {
+        let eps = 1e-9 * h;
+        self.windows_s
+            .iter()
+            .copied()
+            .find(|&(a, b)| t_s >= a - eps && t_s <= b + eps)
     }
 
     /// Macro steps taken from grid point 0 to grid point `k_end` (how many calls of the step

@@ -202,3 +202,54 @@ fn a_bad_plan_is_refused_with_file_line_and_field() {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// `system` with a macro-step control of absolute tolerance `atol` (in metres of x).
+fn with_control(text: &str, atol: f64) -> String {
+    text.replace(
+        "interpolation_order = 2\n",
+        &format!("interpolation_order = 2\nstep_control = {{ rtol = 0.0, atol = {atol:?} }}\n"),
+    )
+}
+
+#[test]
+fn a_rejected_step_closes_the_rest_of_its_window_also_across_a_resume() {
+    // The coupling error of these oscillators' second-order extrapolation is ~1e-5 m over a
+    // 20 ms step: a tolerance of 3e-5 m rejects the first long step (at 0.2 s) and no 10 ms one.
+    let text = with_control(&system(0.01, 1.0, WINDOW), 3e-5);
+    let dir_full = tmp("long-close-full");
+    let sys = dir_full.join("input.toml");
+    std::fs::write(&sys, &text).unwrap();
+    let full = run(&sys, &RunConfig::new(&dir_full), false).unwrap();
+    assert!(full.completed, "{full:?}");
+    assert_eq!(full.long_steps_closed_at_s.len(), 1, "{full:?}");
+    assert!((full.long_steps_closed_at_s[0] - 0.2).abs() < 1e-9);
+    // The one long step tried (rolled back and covered in halves), then 10 ms steps only.
+    assert_eq!(full.long_macro_steps, Some(1));
+    assert_eq!(full.macro_steps, 99);
+    let (open, _) = run_text("long-open", &system(0.01, 1.0, WINDOW));
+    assert_eq!(open.long_macro_steps, Some(20));
+    // Halted after the window closed: the resumed run must not open it again.
+    let dir_cut = tmp("long-close-cut");
+    let o = RunConfig {
+        checkpoint_every_s: Some(0.1),
+        halt_at_s: Some(0.35),
+        ..RunConfig::new(&dir_cut)
+    };
+    assert!(run(&sys, &o, false).unwrap().interrupted);
+    let second = run(
+        &dir_cut.join("system.toml"),
+        &RunConfig::new(&dir_cut),
+        true,
+    )
+    .unwrap();
+    assert!(second.completed);
+    assert_eq!(
+        (second.macro_steps, second.long_macro_steps),
+        (full.macro_steps, full.long_macro_steps)
+    );
+    let a = std::fs::read(dir_full.join("timeseries.csv")).unwrap();
+    let b = std::fs::read(dir_cut.join("timeseries.csv")).unwrap();
+    assert!(a == b, "resumed series differs from the uninterrupted one");
+    let _ = std::fs::remove_dir_all(&dir_full);
+    let _ = std::fs::remove_dir_all(&dir_cut);
+}

@@ -14,7 +14,12 @@
 //! first time it is not. Only that first stretch: after a loss of damping the rotor may carry a
 //! whirl the linear model does not see (a large whirl coexisting with a stable equilibrium, a
 //! run-down through a hysteresis), so no window opens again. Speeds where the analysis fails (no
-//! equilibrium, e.g. a journal resting on its ring) are never calm.
+//! equilibrium) are never calm.
+//!
+//! The linear model can be wrong about the state the run-up is in: with dH = 0 it finds a damped
+//! equilibrium at 50-100 Hz (d = 500 N s/m) while the run-up already whirls on its rings from
+//! 7 Hz. There the macro-step control rejects a 100 us step within milliseconds, and the run
+//! (`cosim::execution`) closes the window at the first rejected or discarded step in it.
 
 use crate::runup::RunupSettings;
 use crate::stability::{params_of, per_speed};

@@ -21,6 +21,11 @@ pub fn run_cli(a: &ExportSspArgs) -> Result<(), String> {
                 "note: the system's step_control has no SSP equivalent; other tools run the fixed macro step"
             );
         }
+        if sys.file.algorithm.long_steps.is_some() {
+            eprintln!(
+                "note: the system's long_steps (calm macro steps) have no SSP equivalent; other tools run the base macro step throughout"
+            );
+        }
     }
     eprintln!(
         "{}: {} components, {} connections, {} parameter values, {}",

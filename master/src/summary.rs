@@ -52,6 +52,10 @@ pub struct RunSummary {
     /// settings; None: no plan, or a folder of an earlier version).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub long_macro_steps: Option<u64>,
+    /// Where a rejected or discarded step ended the calm window early [s] (the run was not as
+    /// calm as the linear analysis said; since the start or the resumed checkpoint).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub calm_window_closed_at_s: Vec<f64>,
     pub retried_macro_steps: Option<u64>,
     pub macro_step_control: Option<ControlStats>,
     pub wall_time_s: Option<f64>,
@@ -115,6 +119,7 @@ impl RunSummary {
             t_end_s: Some(report.t_end_s),
             macro_steps: Some(report.macro_steps),
             long_macro_steps: report.long_macro_steps,
+            calm_window_closed_at_s: report.long_steps_closed_at_s.clone(),
             retried_macro_steps: Some(report.retries),
             macro_step_control: report.control,
             group_stepping: report.group_stepping,

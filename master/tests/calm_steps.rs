@@ -70,14 +70,49 @@ fn a_design_stable_throughout_is_calm_to_the_end() {
 }
 
 #[test]
-fn a_journal_on_its_ring_is_never_calm() {
-    // dH = 0: below ~140 Hz the film cannot lift the journals (no equilibrium to linearize
-    // about), above it the half-frequency whirl is unstable (docs/sweeps.md).
+fn a_journal_riding_on_its_ring_closes_the_calm_window_at_once() {
+    // dH = 0: the run-up whirls on its rings from ~7 Hz (docs/sweeps.md). At d = 50 N s/m the
+    // linear model finds no mode damped by 5 % at any speed; at d = 500 N s/m it finds a damped
+    // equilibrium at 50-100 Hz, and the run closes that window at its first rejected step.
     let s = settings("path1", |s| {
         (s.clearance_um, s.dh_um) = (15.0, 0.0);
     });
-    let p = plan(&s);
-    assert!(p.windows_s.is_empty(), "{p:?}");
+    assert!(plan(&s).windows_s.is_empty());
+    let dir = common::tmp("calm", "ring");
+    let out = dir.to_str().unwrap();
+    let (ok, err) = airring(&[
+        "runup",
+        "--clearance",
+        "15",
+        "--dh",
+        "0",
+        "--c",
+        "1000",
+        "--d",
+        "500",
+        "--stop",
+        "0.12",
+        "--serial-films",
+        "--quiet",
+        "--out",
+        out,
+    ]);
+    assert!(ok, "{err}");
+    assert!(
+        err.contains("calm macro steps of 100 us from 0.076 s"),
+        "{err}"
+    );
+    let summary: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let closed = summary["calm_window_closed_at_s"][0]
+        .as_f64()
+        .expect("closed");
+    assert!((0.076..0.09).contains(&closed), "{summary}");
+    assert!(
+        summary["long_macro_steps"].as_u64().unwrap() < 100,
+        "{summary}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -65,6 +65,8 @@ impl Options {
 struct Sample {
     wall_s: f64,
     macro_steps: f64,
+    /// Of those, the calm (long) ones; 0 without a calm window.
+    calm_steps: f64,
     /// (FMU instance, seconds in its doStep)
     fmus: Vec<(String, f64)>,
     master_s: f64,
@@ -119,6 +121,7 @@ fn read_summary(path: &std::path::Path) -> Result<Sample, String> {
     Ok(Sample {
         wall_s: num("wall_time_s")?,
         macro_steps: num("macro_steps")?,
+        calm_steps: s["long_macro_steps"].as_f64().unwrap_or(0.0),
         fmus,
         master_s: num("master_overhead_s")?,
         master_percent: num("master_overhead_percent")?,
@@ -198,6 +201,7 @@ pub fn runup(o: &Options) -> Result<(), String> {
     let col = |f: &dyn Fn(&Sample) -> f64| median(samples.iter().map(f).collect());
     println!("  wall time           {:10.2} s", col(&|s| s.wall_s));
     println!("  macro steps         {:10.0}", col(&|s| s.macro_steps));
+    println!("  of them calm (long) {:10.0}", col(&|s| s.calm_steps));
     let names: Vec<String> = samples[0].fmus.iter().map(|f| f.0.clone()).collect();
     for name in names {
         let t = col(&|s| {
