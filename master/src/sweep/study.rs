@@ -19,6 +19,7 @@ pub const KEYS: &[(&str, &str, &str, &str)] = &[
     ("profile", "prof", "", ""),
     ("stop", "stop", "stop_time_s", "s"),
     ("macro_step", "H", "macro_step_us", "us"),
+    ("calm_macro_step", "calm", "calm_macro_step_us", "us"),
     ("extrapolation_order", "ex", "extrapolation_order", ""),
     ("interpolation_order", "in", "interpolation_order", ""),
     ("mesh", "mesh", "", ""),
@@ -36,7 +37,13 @@ pub const KEYS: &[(&str, &str, &str, &str)] = &[
 
 /// Flags that choose how a run-up is computed, not what is computed: runs that differ only in
 /// these share a map panel.
-pub(super) const NUMERICS: &[&str] = &["contact", "step_control", "film_tolerance", "fmu_dir"];
+pub(super) const NUMERICS: &[&str] = &[
+    "contact",
+    "step_control",
+    "film_tolerance",
+    "fmu_dir",
+    "calm_macro_step",
+];
 
 /// Study keys that take true or false.
 const BOOLEAN_KEYS: &[&str] = &["jacobi"];
