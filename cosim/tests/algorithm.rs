@@ -7,67 +7,10 @@
 
 mod common;
 
-use common::{fmu_dir, tmp};
+use common::{coupled, exact_xa, run, run_text, tmp};
 use cosim::system::System;
-use cosim::timeseries::CsvObserver;
 use cosim::{RunConfig, RunReport};
-use std::path::Path;
 use std::sync::Arc;
-
-/// `cosim::run` writing `timeseries.csv` into the run folder, FMU messages dropped.
-fn run(system: &Path, cfg: &RunConfig, resume: bool) -> Result<RunReport, cosim::RunError> {
-    let mut csv = CsvObserver::new(cfg.out_dir.join("timeseries.csv"));
-    cosim::run(
-        system,
-        cfg,
-        resume,
-        Arc::new(|_: &fmi2::importer::LogRecord| {}),
-        &mut [&mut csv],
-    )
-}
-
-/// Two unit-mass oscillators (k = 4 pi^2) coupled through their inputs: F_a = x_b, F_b = x_a.
-fn coupled(kind: &str, h: f64, order: u8, stop: f64) -> String {
-    format!(
-        r#"
-[[fmu]]
-name = "a"
-path = "{fmu}/oscillator.fmu"
-parameters = {{ x0 = "1 m" }}
-
-[[fmu]]
-name = "b"
-path = "{fmu}/oscillator.fmu"
-
-[[connection]]
-from = "a.x"
-to = "b.F"
-
-[[connection]]
-from = "b.x"
-to = "a.F"
-
-[algorithm]
-kind = "{kind}"
-macro_step = {h:?}
-stop_time = {stop:?}
-extrapolation_order = {order}
-interpolation_order = {order}
-
-[output]
-interval = {stop:?}
-variables = ["a.x", "b.x"]
-"#,
-        fmu = fmu_dir().display()
-    )
-}
-
-/// x_a(t) for x_a(0) = 1, x_b(0) = 0 at rest: modes x_a +- x_b with w^2 -+ 1.
-fn exact_xa(t: f64) -> f64 {
-    let w2 = 4.0 * std::f64::consts::PI.powi(2);
-    let (w1, w2b) = ((w2 - 1.0).sqrt(), (w2 + 1.0).sqrt());
-    0.5 * ((w1 * t).cos() + (w2b * t).cos())
-}
 
 /// Largest error of x_a against the exact solution over 1 s, sampled every 20 ms.
 fn max_error(name: &str, kind: &str, h: f64, order: u8) -> f64 {
@@ -141,17 +84,6 @@ fn with_control(text: &str, rtol: f64, atol: f64) -> String {
         &text[..i],
         &text[i..]
     )
-}
-
-fn run_text(name: &str, text: &str) -> (RunReport, Vec<Vec<f64>>) {
-    let dir = tmp(name);
-    let sys = dir.join("system.toml");
-    std::fs::write(&sys, text).unwrap();
-    let report = run(&sys, &RunConfig::new(&dir), false).unwrap();
-    assert!(report.completed, "{report:?}");
-    let (_, rows) = cosim::timeseries::read(&dir.join("timeseries.csv")).unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
-    (report, rows)
 }
 
 #[test]

@@ -5,78 +5,49 @@
 
 mod common;
 
-use common::{fmu_dir, tmp};
-use cosim::timeseries::CsvObserver;
+use common::{coupled, exact_xa, run, run_text, tmp};
 use cosim::{RunConfig, RunReport};
-use std::path::Path;
-use std::sync::Arc;
 
-fn run(system: &Path, cfg: &RunConfig, resume: bool) -> Result<RunReport, cosim::RunError> {
-    let mut csv = CsvObserver::new(cfg.out_dir.join("timeseries.csv"));
-    cosim::run(
-        system,
-        cfg,
-        resume,
-        Arc::new(|_: &fmi2::importer::LogRecord| {}),
-        &mut [&mut csv],
-    )
-}
-
-/// Two unit-mass oscillators (k = 4 pi^2) coupled through their inputs, F_a = x_b, F_b = x_a,
-/// Gauss-Seidel with second-order polynomials, a row every 10 ms; `long` is an optional
-/// `long_steps = ...` line.
+/// The coupled oscillators (`common::coupled`), Gauss-Seidel with second-order polynomials, a
+/// row every 10 ms; `long` is an optional `long_steps = ...` line.
 fn system(h: f64, stop: f64, long: &str) -> String {
-    format!(
-        r#"
-[[fmu]]
-name = "a"
-path = "{fmu}/oscillator.fmu"
-parameters = {{ x0 = "1 m" }}
-
-[[fmu]]
-name = "b"
-path = "{fmu}/oscillator.fmu"
-
-[[connection]]
-from = "a.x"
-to = "b.F"
-
-[[connection]]
-from = "b.x"
-to = "a.F"
-
-[algorithm]
-kind = "gauss-seidel"
-macro_step = {h:?}
-stop_time = {stop:?}
-extrapolation_order = 2
-interpolation_order = 2
-{long}
-
-[output]
-interval = 0.01
-variables = ["a.x", "b.x"]
-"#,
-        fmu = fmu_dir().display()
-    )
+    coupled("gauss-seidel", h, 2, stop)
+        .replace(&format!("interval = {stop:?}"), "interval = 0.01")
+        .replace(
+            "interpolation_order = 2\n",
+            &format!("interpolation_order = 2\n{long}\n"),
+        )
 }
 
-/// x_a(t) for x_a(0) = 1, x_b(0) = 0 at rest: modes x_a +- x_b with w^2 -+ 1.
-fn exact_xa(t: f64) -> f64 {
-    let w2 = 4.0 * std::f64::consts::PI.powi(2);
-    let (w1, w2b) = ((w2 - 1.0).sqrt(), (w2 + 1.0).sqrt());
-    0.5 * ((w1 * t).cos() + (w2b * t).cos())
-}
-
-fn run_text(name: &str, text: &str) -> (RunReport, Vec<Vec<f64>>) {
-    let dir = tmp(name);
-    let sys = dir.join("system.toml");
+/// Runs `text` whole, and halted at `halt_s` (checkpoints every `every_s`) then resumed; asserts
+/// that the two series are the same bytes and returns the two reports (whole, resumed).
+fn whole_and_resumed(name: &str, text: &str, every_s: f64, halt_s: f64) -> (RunReport, RunReport) {
+    let dir_full = tmp(&format!("{name}-full"));
+    let dir_cut = tmp(&format!("{name}-cut"));
+    let sys = dir_full.join("input.toml");
     std::fs::write(&sys, text).unwrap();
-    let report = run(&sys, &RunConfig::new(&dir), false).unwrap();
-    assert!(report.completed, "{report:?}");
-    let (_, rows) = cosim::timeseries::read(&dir.join("timeseries.csv")).unwrap();
-    let _ = std::fs::remove_dir_all(&dir);
-    (report, rows)
+    let full = run(&sys, &RunConfig::new(&dir_full), false).unwrap();
+    assert!(full.completed, "{full:?}");
+    let o = RunConfig {
+        checkpoint_every_s: Some(every_s),
+        halt_at_s: Some(halt_s),
+        ..RunConfig::new(&dir_cut)
+    };
+    let first = run(&sys, &o, false).unwrap();
+    assert!(first.interrupted && !first.completed);
+    let second = run(
+        &dir_cut.join("system.toml"),
+        &RunConfig::new(&dir_cut),
+        true,
+    )
+    .unwrap();
+    assert!(second.completed);
+    let a = std::fs::read(dir_full.join("timeseries.csv")).unwrap();
+    let b = std::fs::read(dir_cut.join("timeseries.csv")).unwrap();
+    assert!(a == b, "resumed series differs from the uninterrupted one");
+    let _ = std::fs::remove_dir_all(&dir_full);
+    let _ = std::fs::remove_dir_all(&dir_cut);
+    (full, second)
 }
 
 const WINDOW: &str = "long_steps = { factor = 2, windows = [[0.2, 0.6]] }";
@@ -141,36 +112,12 @@ fn long_steps_keep_the_base_grid_rows_and_change_nothing_outside_their_window() 
 
 #[test]
 fn a_run_with_long_steps_resumes_bit_for_bit() {
-    let dir_full = tmp("long-full");
-    let dir_cut = tmp("long-cut");
-    let text = system(0.01, 1.0, WINDOW);
-    let sys = dir_full.join("input.toml");
-    std::fs::write(&sys, &text).unwrap();
-    let full = run(&sys, &RunConfig::new(&dir_full), false).unwrap();
     // Halted inside the window, where the macro points are every 20 ms.
-    let o = RunConfig {
-        checkpoint_every_s: Some(0.05),
-        halt_at_s: Some(0.333),
-        ..RunConfig::new(&dir_cut)
-    };
-    let first = run(&sys, &o, false).unwrap();
-    assert!(first.interrupted && !first.completed);
-    let second = run(
-        &dir_cut.join("system.toml"),
-        &RunConfig::new(&dir_cut),
-        true,
-    )
-    .unwrap();
-    assert!(second.completed);
+    let (full, resumed) = whole_and_resumed("long", &system(0.01, 1.0, WINDOW), 0.05, 0.333);
     assert_eq!(
-        (second.macro_steps, second.long_macro_steps),
+        (resumed.macro_steps, resumed.long_macro_steps),
         (full.macro_steps, full.long_macro_steps)
     );
-    let a = std::fs::read(dir_full.join("timeseries.csv")).unwrap();
-    let b = std::fs::read(dir_cut.join("timeseries.csv")).unwrap();
-    assert!(a == b, "resumed series differs from the uninterrupted one");
-    let _ = std::fs::remove_dir_all(&dir_full);
-    let _ = std::fs::remove_dir_all(&dir_cut);
 }
 
 #[test]
@@ -215,41 +162,18 @@ fn with_control(text: &str, atol: f64) -> String {
 fn a_rejected_step_closes_the_rest_of_its_window_also_across_a_resume() {
     // The coupling error of these oscillators' second-order extrapolation is ~1e-5 m over a
     // 20 ms step: a tolerance of 3e-5 m rejects the first long step (at 0.2 s) and no 10 ms one.
+    // Halted after the window closed: the resumed run must not open it again.
     let text = with_control(&system(0.01, 1.0, WINDOW), 3e-5);
-    let dir_full = tmp("long-close-full");
-    let sys = dir_full.join("input.toml");
-    std::fs::write(&sys, &text).unwrap();
-    let full = run(&sys, &RunConfig::new(&dir_full), false).unwrap();
-    assert!(full.completed, "{full:?}");
+    let (full, resumed) = whole_and_resumed("long-close", &text, 0.1, 0.35);
     assert_eq!(full.long_steps_closed_at_s.len(), 1, "{full:?}");
     assert!((full.long_steps_closed_at_s[0] - 0.2).abs() < 1e-9);
     // The one long step tried (rolled back and covered in halves), then 10 ms steps only.
     assert_eq!(full.long_macro_steps, Some(1));
     assert_eq!(full.macro_steps, 99);
-    let (open, _) = run_text("long-open", &system(0.01, 1.0, WINDOW));
-    assert_eq!(open.long_macro_steps, Some(20));
-    // Halted after the window closed: the resumed run must not open it again.
-    let dir_cut = tmp("long-close-cut");
-    let o = RunConfig {
-        checkpoint_every_s: Some(0.1),
-        halt_at_s: Some(0.35),
-        ..RunConfig::new(&dir_cut)
-    };
-    assert!(run(&sys, &o, false).unwrap().interrupted);
-    let second = run(
-        &dir_cut.join("system.toml"),
-        &RunConfig::new(&dir_cut),
-        true,
-    )
-    .unwrap();
-    assert!(second.completed);
     assert_eq!(
-        (second.macro_steps, second.long_macro_steps),
+        (resumed.macro_steps, resumed.long_macro_steps),
         (full.macro_steps, full.long_macro_steps)
     );
-    let a = std::fs::read(dir_full.join("timeseries.csv")).unwrap();
-    let b = std::fs::read(dir_cut.join("timeseries.csv")).unwrap();
-    assert!(a == b, "resumed series differs from the uninterrupted one");
-    let _ = std::fs::remove_dir_all(&dir_full);
-    let _ = std::fs::remove_dir_all(&dir_cut);
+    let (open, _) = run_text("long-open", &system(0.01, 1.0, WINDOW));
+    assert_eq!(open.long_macro_steps, Some(20));
 }
