@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{fmu_dir, tmp};
+use common::{coupled, fmu_dir, tmp};
 use cosim::algorithm::Event;
 use cosim::observer::{Observer, RunStart};
 use cosim::timeseries::{self, CsvObserver};
@@ -16,38 +16,12 @@ use std::sync::Arc;
 /// Two oscillators coupled through their inputs; `a` discards its steps from t = 4 ms on unless
 /// they are at most a quarter of the 10 ms macro step (the FMU's fault mode 3).
 fn system(dir: &Path) -> PathBuf {
-    let text = format!(
-        r#"
-[[fmu]]
-name = "a"
-path = "{fmu}/oscillator.fmu"
-parameters = {{ x0 = "1 m", fault_mode = 3, fault_time = 0.004 }}
-
-[[fmu]]
-name = "b"
-path = "{fmu}/oscillator.fmu"
-
-[[connection]]
-from = "a.x"
-to = "b.F"
-
-[[connection]]
-from = "b.x"
-to = "a.F"
-
-[algorithm]
-kind = "gauss-seidel"
-macro_step = 0.01
-stop_time = 0.1
-extrapolation_order = 1
-interpolation_order = 1
-
-[output]
-interval = 0.01
-variables = ["a.x", "b.x"]
-"#,
-        fmu = fmu_dir().display()
-    );
+    let text = coupled("gauss-seidel", 0.01, 1, 0.1)
+        .replace(
+            r#"x0 = "1 m""#,
+            r#"x0 = "1 m", fault_mode = 3, fault_time = 0.004"#,
+        )
+        .replace("interval = 0.1", "interval = 0.01");
     let path = dir.join("coupled.toml");
     std::fs::write(&path, text).unwrap();
     path
