@@ -183,6 +183,8 @@ struct Execution<'a> {
     /// One fmi2GetReal per subsystem and sample: (subsystem, its recorded vrs, their columns).
     by_sub: Vec<(usize, Vec<u32>, Vec<usize>)>,
     values: Vec<f64>,
+    /// The macro point `values` were read at (time bits): read once per point.
+    values_at: Option<u64>,
     scratch: Vec<f64>,
     /// The recorded values at the start of a long step, and the rows interpolated inside it.
     values_before: Vec<f64>,
@@ -227,6 +229,7 @@ impl<'a> Execution<'a> {
             cfg,
             by_sub,
             values: vec![0.0; n],
+            values_at: None,
             scratch: vec![0.0; n],
             values_before: vec![0.0; n],
             interpolated: vec![0.0; n],
@@ -263,8 +266,12 @@ impl<'a> Execution<'a> {
         c.macro_steps().1 + c.control_stats().map_or(0, |s| s.rejected)
     }
 
-    /// Reads the recorded variables into `values`.
+    /// Reads the recorded variables into `values`, unless they were read at this macro point.
     fn record(&mut self) -> Result<(), String> {
+        let t = self.built.cosim.time_s().to_bits();
+        if self.values_at == Some(t) {
+            return Ok(());
+        }
         for (i, vrs, cols) in &self.by_sub {
             let out = &mut self.scratch[..vrs.len()];
             self.built
@@ -275,6 +282,7 @@ impl<'a> Execution<'a> {
                 self.values[*c] = *v;
             }
         }
+        self.values_at = Some(t);
         Ok(())
     }
 

@@ -80,40 +80,30 @@ impl LongSteps {
             .copied()
             .find(|&(a, b)| t_s >= a - eps && t_s <= b + eps)
     }
-
-    /// Macro steps taken from grid point 0 to grid point `k_end` (how many calls of the step
-    /// function the plan makes; a resumed run reports the whole run's count with it).
-    pub fn macro_steps_to(&self, k_end: u64, h: f64, n_steps: u64) -> (u64, u64) {
-        let (mut k, mut steps, mut long) = (0u64, 0u64, 0u64);
-        while k < k_end {
-            let m = self.base_steps_from(k, h, n_steps);
-            if m > 1 {
-                long += 1;
-            }
-            k += m;
-            steps += 1;
-        }
-        (steps, long)
-    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    #[test]
-    fn long_steps_start_on_multiples_and_stay_inside_windows() {
-        let h = 50e-6;
-        let plan = LongSteps::new(2, vec![(0.0, 0.001), (0.00205, 0.0031)]).unwrap();
-        let n = 80;
-        let mut k = 0;
+    /// The steps (grid point, base steps covered) a run from grid point `k` to `n` takes.
+    fn walk(plan: &LongSteps, mut k: u64, h: f64, n: u64) -> Vec<(u64, u64)> {
         let mut steps = vec![];
         while k < n {
             let m = plan.base_steps_from(k, h, n);
             steps.push((k, m));
             k += m;
         }
-        assert_eq!(k, n);
+        assert_eq!(k, n, "the steps end on the last grid point");
+        steps
+    }
+
+    #[test]
+    fn long_steps_start_on_multiples_and_stay_inside_windows() {
+        let h = 50e-6;
+        let plan = LongSteps::new(2, vec![(0.0, 0.001), (0.00205, 0.0031)]).unwrap();
+        let n = 80;
+        let steps = walk(&plan, 0, h, n);
         for &(k, m) in &steps {
             if m == 2 {
                 assert_eq!(k % 2, 0);
@@ -132,17 +122,8 @@ mod tests {
         let expect: Vec<u64> = (0..20).step_by(2).chain((42..=60).step_by(2)).collect();
         assert_eq!(long, expect);
         assert_eq!(steps.len(), 60);
-        assert_eq!(plan.macro_steps_to(n, h, n), (60, 20));
         // A resumed run at any grid point the plan reached continues with the same steps.
-        let (k_mid, _) = steps[15];
-        let mut k = k_mid;
-        let mut rest = vec![];
-        while k < n {
-            let m = plan.base_steps_from(k, h, n);
-            rest.push((k, m));
-            k += m;
-        }
-        assert_eq!(rest, steps[15..]);
+        assert_eq!(walk(&plan, steps[15].0, h, n), steps[15..]);
     }
 
     #[test]
@@ -150,7 +131,7 @@ mod tests {
         let plan = LongSteps::new(4, vec![(0.0, 1.0)]).unwrap();
         // 10 intervals: long steps from 0 and 4; 8 + 4 > 10, so 8 and 9 are single steps.
         assert_eq!(plan.base_steps_from(8, 0.01, 10), 1);
-        assert_eq!(plan.macro_steps_to(10, 0.01, 10), (4, 2));
+        assert_eq!(walk(&plan, 0, 0.01, 10), [(0, 4), (4, 4), (8, 1), (9, 1)]);
         assert_eq!(
             LongSteps::new(1, vec![(0.0, 1.0)])
                 .unwrap()
