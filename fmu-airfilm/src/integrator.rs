@@ -28,6 +28,16 @@ use serde::{Deserialize, Serialize};
 /// Newton tolerance on the weighted update norm (the local error tolerance is 1).
 const NEWTON_TOL: f64 = 0.05;
 const MAX_NEWTON_ITERS: usize = 7;
+/// A reused matrix is given up as soon as its contraction rate predicts convergence only after
+/// this many iterations: a fresh one costs about 7 iterations' work (assembly and factorization,
+/// fmu-airfilm/BENCHMARKS.md) and converges in one or two. Path 1 used to spend a fifth of its
+/// film iterations in solves that ran into `MAX_NEWTON_ITERS` with a stale matrix and then
+/// refactorized anyway.
+const MAX_PREDICTED_ITERS: f64 = 5.0;
+/// A reused matrix whose solve took this many iterations or more is refactorized at its next
+/// use: the gap has moved on since it was assembled (in a large whirl within a fraction of the
+/// whirl period, long before `MAX_LU_AGE`), and the next solve would be slower still.
+const SLOW_SOLVE_ITERS: usize = 4;
 const MAX_LU_AGE: u32 = 40;
 /// Smallest sub-step before a Newton failure is reported.
 const H_MIN_S: f64 = 1e-13;
@@ -630,6 +640,7 @@ impl AirFilm {
                     k,
                     co,
                     &self.lu[m],
+                    need_jac,
                     &mut s.p_new[r.clone()],
                     &s.hist[r.clone()],
                     &mut s.res[r.clone()],
@@ -637,7 +648,11 @@ impl AirFilm {
                     &mut self.newton_rate[m],
                     stats,
                 ) {
-                    Ok(()) => {
+                    Ok(iterations) => {
+                        if !need_jac && iterations >= SLOW_SOLVE_ITERS {
+                            // Aged out: `factor_slots::choose` refactorizes it at its next use.
+                            self.lu_age[m] = self.lu_age[m].max(MAX_LU_AGE);
+                        }
                         converged = Ok(());
                         break;
                     }
@@ -677,20 +692,30 @@ fn step_ratio(err: f64, order: usize) -> f64 {
     (0.9 * err.powf(-1.0 / (order as f64 + 1.0))).clamp(0.2, 2.0)
 }
 
-/// Modified Newton on one block with the factored matrix `lu`. True when converged.
+/// Further iterations, after one whose update had the weighted norm `norm`, until the updates,
+/// shrinking by `rate` (0 < rate < 1) each, pass the convergence test
+/// `norm_j rate / (1 - rate) < tol` (norm_j = norm rate^j).
+fn further_iterations(norm: f64, rate: f64, tol: f64) -> f64 {
+    ((tol * (1.0 - rate) / (norm * rate)).ln() / rate.ln()).max(0.0)
+}
+
+/// Modified Newton on one block with the factored matrix `lu` (`fresh`: just factorized).
+/// The number of iterations when converged.
+#[allow(clippy::too_many_arguments)]
 fn newton_block(
     mesh: &Mesh,
     gap: &GapField,
     k: usize,
     co: Coeffs,
     lu: &BandLu,
+    fresh: bool,
     p: &mut [f64],
     hist: &[f64],
     res: &mut [f64],
     wt: &[f64],
     rate_prev: &mut f64,
     stats: &mut StepStats,
-) -> Result<(), &'static str> {
+) -> Result<usize, &'static str> {
     let mut norm_prev = f64::INFINITY;
     let mut rate = 0.0f64;
     let n = p.len();
@@ -714,7 +739,7 @@ fn newton_block(
             let r = rate_prev.clamp(0.2, 0.9);
             if norm * r / (1.0 - r) < NEWTON_TOL || norm < 0.1 * NEWTON_TOL {
                 floor_pressure(p, stats);
-                return Ok(());
+                return Ok(1);
             }
         } else {
             rate = (norm / norm_prev).max(0.2 * rate);
@@ -724,7 +749,13 @@ fn newton_block(
             }
             if norm * rate / (1.0 - rate) < NEWTON_TOL {
                 floor_pressure(p, stats);
-                return Ok(());
+                return Ok(it + 1);
+            }
+            if !fresh
+                && (it + 1) as f64 + further_iterations(norm, rate, NEWTON_TOL)
+                    > MAX_PREDICTED_ITERS
+            {
+                return Err("the reused Newton matrix converges too slowly");
             }
         }
         norm_prev = norm;
@@ -775,6 +806,28 @@ pub(crate) fn outputs_for(
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    /// The prediction against the sequence it models: updates shrinking geometrically pass the
+    /// convergence test exactly after the predicted number of further iterations.
+    #[test]
+    fn predicted_iterations_match_a_geometric_contraction() {
+        for (norm0, rate) in [(3.0, 0.5), (0.8, 0.3), (40.0, 0.7), (1.0, 0.25)] {
+            let tol = NEWTON_TOL;
+            let passes = |norm: f64| norm * rate / (1.0 - rate) < tol;
+            let mut norm = norm0;
+            let mut j = 0;
+            while !passes(norm) {
+                norm *= rate;
+                j += 1;
+            }
+            let predicted = further_iterations(norm0, rate, tol);
+            assert!(
+                predicted <= j as f64 && predicted > j as f64 - 1.0,
+                "norm {norm0}, rate {rate}: {predicted} predicted, {j} needed"
+            );
+        }
+        assert_eq!(further_iterations(1e-3, 0.5, NEWTON_TOL), 0.0);
+    }
 
     /// The state layout of the builds before two factorized matrices per lobe (one per lobe, no
     /// idle counts), written from a film of this build.
