@@ -164,8 +164,10 @@ impl FilmLinearization {
                     }
                 }
             }
-            a.factor()
-                .map_err(|row| FilmError::SingularMatrix { lobe: k, row })?;
+            a.factor().map_err(|e| FilmError::SingularMatrix {
+                lobe: k,
+                row: e.row(a.n),
+            })?;
             for dir in 0..2 {
                 for r in 0..npb {
                     rhs[2 * r] = -b.r_e[dir][r];
@@ -196,8 +198,10 @@ impl FilmLinearization {
         let mut p1 = [[vec![1.0; n], vec![1.0; n]], [vec![1.0; n], vec![1.0; n]]];
         for (k, b) in self.blocks.iter().enumerate() {
             let mut lu = b.j.clone();
-            lu.factor()
-                .map_err(|row| FilmError::SingularMatrix { lobe: k, row })?;
+            lu.factor().map_err(|e| FilmError::SingularMatrix {
+                lobe: k,
+                row: e.row(lu.n),
+            })?;
             for dir in 0..2 {
                 let mut x: Vec<f64> = b.r_e[dir].iter().map(|v| -v).collect();
                 lu.solve(&mut x);

@@ -18,7 +18,7 @@ use crate::error::FilmError;
 use crate::factor_slots::{self, SlotInfo, SLOTS_PER_LOBE};
 use crate::forces::{self, FilmOutputs};
 use crate::geometry::{min_gap_m, GapField, Geometry};
-use crate::linsolve::BandLu;
+use crate::linsolve::{BandLu, FactorError};
 use crate::mesh::Mesh;
 use crate::params::BearingParams;
 use crate::reynolds::{self, Coeffs};
@@ -65,6 +65,11 @@ pub struct StepStats {
     /// of a serialized state (its format predates the floor): counts since the last restore.
     #[serde(skip)]
     pub n_pressure_floored: usize,
+    /// Newton matrices factorized again with partial pivoting because elimination without row
+    /// interchanges was not stable ([`crate::linsolve::GROWTH_LIMIT`]). Not part of a serialized
+    /// state, like the floor's count.
+    #[serde(skip)]
+    pub n_pivoted_factorizations: usize,
 }
 
 impl StepStats {
@@ -74,6 +79,7 @@ impl StepStats {
         self.n_newton_iters += o.n_newton_iters;
         self.n_jacobians += o.n_jacobians;
         self.n_newton_failures += o.n_newton_failures;
+        self.n_pivoted_factorizations += o.n_pivoted_factorizations;
         self.n_pressure_floored += o.n_pressure_floored;
         self.h_last_s = o.h_last_s;
     }
@@ -613,17 +619,24 @@ impl AirFilm {
             for _attempt in 0..2 {
                 if need_jac {
                     s.p_new[r.clone()].copy_from_slice(&s.p_pred[r.clone()]);
-                    reynolds::jacobian(
-                        &self.mesh,
-                        &s.gap,
-                        k,
-                        co,
-                        &s.p_new[r.clone()],
-                        &mut self.lu[m],
-                    );
+                    // Without row interchanges first: a third less memory for the solves to
+                    // stream through, and stable on every Newton matrix seen (linsolve.rs,
+                    // GROWTH_LIMIT). Where it is not, the matrix is assembled again and
+                    // factorized with partial pivoting.
+                    let mut factored = Err(FactorError::ZeroPivot { row: 0 });
+                    for pivoting in [false, true] {
+                        let lu = &mut self.lu[m];
+                        lu.set_pivoting(pivoting);
+                        reynolds::jacobian(&self.mesh, &s.gap, k, co, &s.p_new[r.clone()], lu);
+                        self.lu_valid[m] = false;
+                        factored = lu.factor();
+                        if factored.is_ok() {
+                            break;
+                        }
+                        stats.n_pivoted_factorizations += usize::from(!pivoting);
+                    }
                     stats.n_jacobians += 1;
-                    self.lu_valid[m] = false;
-                    if self.lu[m].factor().is_err() {
+                    if factored.is_err() {
                         return Err(NewtonFail {
                             lobe: k,
                             cause: "singular Newton matrix",

@@ -1,11 +1,43 @@
-//! Banded LU with partial pivoting (the LAPACK dgbtf2/dgbtrs algorithm), written out by hand.
+//! Banded LU, written out by hand: with partial pivoting (the LAPACK dgbtf2/dgbtrs algorithm),
+//! or without row interchanges where that is stable (the film's Newton matrices).
 //!
 //! Storage is LAPACK's column-major band layout: entry (r, c) lives at
-//! `ab[(kl + ku + r - c) + c * ldab]`, `ldab = 2 kl + ku + 1`; the extra kl rows hold the fill-in
-//! that row interchanges create. Factor and solve allocate nothing.
+//! `ab[(ub + r - c) + c * ldab]`. With pivoting `ldab = 2 kl + ku + 1` and `ub = kl + ku`: the
+//! extra kl rows hold the fill-in that row interchanges create, U has kl + ku superdiagonals.
+//! Without, `ldab = kl + ku + 1` and `ub = ku`: U keeps the matrix's ku superdiagonals, and the
+//! factors take (kl + ku + 1) / (2 kl + ku + 1) of the memory (57 / 85 rows for a film lobe),
+//! which the triangular solves stream through at every Newton iteration. Factor and solve
+//! allocate nothing.
 
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicU64, Ordering};
+
+/// Without row interchanges, a factorization whose U has an entry larger than this many times the
+/// matrix's largest is refused ([`FactorError::Growth`]): the backward error of LU grows with
+/// that ratio (Wilkinson's growth factor). The film's Newton matrices stay at 1.0-1.25 (a lobe of
+/// the paper mesh from concentric to eps 0.99, C = 10-30 um, dH = 0-60 um), so the limit leaves
+/// a wide margin and still bounds the backward error near 1e-13.
+pub const GROWTH_LIMIT: f64 = 1e3;
+
+/// Why a factorization failed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FactorError {
+    /// An exactly zero (or, without pivoting, a non-finite) pivot in this row.
+    ZeroPivot { row: usize },
+    /// Without row interchanges, U grew by this factor over the largest entry of the matrix
+    /// (above [`GROWTH_LIMIT`], or not finite): factorize with pivoting instead.
+    Growth { ratio: f64 },
+}
+
+impl FactorError {
+    /// The row where the factorization stopped (n for a growth failure, found at the end).
+    pub fn row(&self, n: usize) -> usize {
+        match *self {
+            FactorError::ZeroPivot { row } => row,
+            FactorError::Growth { .. } => n,
+        }
+    }
+}
 
 #[derive(Debug, Serialize, Deserialize)]
 pub struct BandLu {
@@ -15,12 +47,46 @@ pub struct BandLu {
     ldab: usize,
     ab: Vec<f64>,
     ipiv: Vec<u32>,
+    /// Partial pivoting (LAPACK's layout) or none (the compact layout).
+    pivoting: bool,
     /// Names the current contents: a successful `factor` draws a process-wide unique stamp, every
     /// other change sets 0 ("unknown"). Equal non-zero stamps mean equal contents, which lets
     /// `clone_from` skip the copy (an FMU state saved at every macro step holds factors that
     /// change only every few dozen steps). Not serialized: a deserialized matrix is "unknown".
     #[serde(skip)]
     stamp: u64,
+}
+
+/// The largest |v| of `v`; NaN if any element is NaN or infinite. In eight independent lanes,
+/// which vectorize: a lane-wise `if a > m { a } else { m }` (the vector max instruction's own
+/// rule; f64::max's NaN rule and an integer max on the bit patterns both stayed scalar, 3-4x
+/// slower), and a lane-wise sum of v * 0, which stays 0 unless some v is NaN or infinite.
+#[inline(always)]
+fn abs_max(v: &[f64]) -> f64 {
+    let mut max = [0.0f64; 8];
+    let mut zero = [0.0f64; 8];
+    let chunks = v.chunks_exact(8);
+    let tail = chunks.remainder();
+    for c in chunks {
+        for i in 0..8 {
+            let a = c[i].abs();
+            max[i] = if a > max[i] { a } else { max[i] };
+            zero[i] += c[i] * 0.0;
+        }
+    }
+    let mut m = 0.0f64;
+    let mut z = 0.0f64;
+    for &x in tail.iter().chain(&max) {
+        let a = x.abs();
+        m = if a > m { a } else { m };
+        z += x * 0.0;
+    }
+    z += zero.iter().sum::<f64>();
+    if z == 0.0 {
+        m
+    } else {
+        f64::NAN
+    }
 }
 
 /// Source of factorization stamps (0 is never drawn).
@@ -35,6 +101,7 @@ impl Clone for BandLu {
             ldab: self.ldab,
             ab: self.ab.clone(),
             ipiv: self.ipiv.clone(),
+            pivoting: self.pivoting,
             stamp: self.stamp,
         }
     }
@@ -50,18 +117,21 @@ impl Clone for BandLu {
             ldab,
             ab,
             ipiv,
+            pivoting,
             stamp,
         } = src;
         (self.n, self.kl, self.ku, self.ldab) = (*n, *kl, *ku, *ldab);
         self.ab.clone_from(ab);
         self.ipiv.clone_from(ipiv);
+        self.pivoting = *pivoting;
         self.stamp = *stamp;
     }
 }
 
 impl BandLu {
+    /// An n x n zero matrix of bandwidths kl, ku, to be factorized with partial pivoting.
     pub fn new(n: usize, kl: usize, ku: usize) -> Self {
-        let ldab = 2 * kl + ku + 1;
+        let ldab = Self::ldab_for(kl, ku, true);
         BandLu {
             n,
             kl,
@@ -69,7 +139,39 @@ impl BandLu {
             ldab,
             ab: vec![0.0; ldab * n],
             ipiv: vec![0; n],
+            pivoting: true,
             stamp: 0,
+        }
+    }
+
+    fn ldab_for(kl: usize, ku: usize, pivoting: bool) -> usize {
+        if pivoting {
+            2 * kl + ku + 1
+        } else {
+            kl + ku + 1
+        }
+    }
+
+    /// U's bandwidth, which is also the diagonal's row in the band storage.
+    #[inline(always)]
+    fn ub(&self) -> usize {
+        self.ldab - self.kl - 1
+    }
+
+    /// Whether `factor` pivots.
+    pub fn pivoting(&self) -> bool {
+        self.pivoting
+    }
+
+    /// Chooses partial pivoting or none for the next factorization; a change of layout clears
+    /// the matrix (assemble after it).
+    pub fn set_pivoting(&mut self, pivoting: bool) {
+        if pivoting != self.pivoting {
+            self.pivoting = pivoting;
+            self.ldab = Self::ldab_for(self.kl, self.ku, pivoting);
+            self.ab.clear();
+            self.ab.resize(self.ldab * self.n, 0.0);
+            self.stamp = 0;
         }
     }
 
@@ -77,7 +179,7 @@ impl BandLu {
     /// deserialized matrix is checked with it, so a foreign state is an error, not a panic in the
     /// kernels).
     pub fn fits(&self, n: usize, kl: usize, ku: usize) -> bool {
-        let ldab = 2 * kl + ku + 1;
+        let ldab = Self::ldab_for(kl, ku, self.pivoting);
         (self.n, self.kl, self.ku, self.ldab) == (n, kl, ku, ldab)
             && self.ab.len() == ldab * n
             && self.ipiv.len() == n
@@ -92,7 +194,7 @@ impl BandLu {
 
     #[inline(always)]
     fn idx(&self, r: usize, c: usize) -> usize {
-        self.kl + self.ku + r - c + c * self.ldab
+        self.ub() + r - c + c * self.ldab
     }
 
     /// Adds `v` to entry (r, c); (r, c) must lie inside the band.
@@ -126,8 +228,10 @@ impl BandLu {
         self.ab[i] = 1.0;
     }
 
-    /// In-place LU factorization with partial pivoting. Err(row) on an exactly zero pivot.
-    pub fn factor(&mut self) -> Result<(), usize> {
+    /// In-place LU factorization, with partial pivoting or without (see [`Self::set_pivoting`]).
+    /// Without, a factorization that is not stable ([`GROWTH_LIMIT`]) fails: assemble again and
+    /// factorize with pivoting. After a failure the contents are undefined.
+    pub fn factor(&mut self) -> Result<(), FactorError> {
         self.stamp = 0;
         self.factor_in_place()?;
         self.stamp = NEXT_STAMP.fetch_add(1, Ordering::Relaxed);
@@ -135,20 +239,72 @@ impl BandLu {
     }
 
     /// Compiled for the widest vector unit the CPU has, like `solve`.
-    fn factor_in_place(&mut self) -> Result<(), usize> {
+    fn factor_in_place(&mut self) -> Result<(), FactorError> {
         struct Op<'a>(&'a mut BandLu);
         impl pulp::WithSimd for Op<'_> {
-            type Output = Result<(), usize>;
+            type Output = Result<(), FactorError>;
             #[inline(always)]
-            fn with_simd<S: pulp::Simd>(self, _: S) -> Result<(), usize> {
-                self.0.factor_lanes()
+            fn with_simd<S: pulp::Simd>(self, _: S) -> Result<(), FactorError> {
+                if self.0.pivoting {
+                    self.0.factor_lanes()
+                } else {
+                    self.0.factor_unpivoted_lanes()
+                }
             }
         }
         pulp::Arch::new().dispatch(Op(self))
     }
 
+    /// Gaussian elimination without row interchanges in the compact layout, then the growth
+    /// check. The same column-by-column update as `factor_lanes` with every interchange absent.
     #[inline(always)]
-    fn factor_lanes(&mut self) -> Result<(), usize> {
+    fn factor_unpivoted_lanes(&mut self) -> Result<(), FactorError> {
+        let (n, kl, ku, ldab) = (self.n, self.kl, self.ku, self.ldab);
+        let ab = &mut self.ab;
+        let a_max = abs_max(ab);
+        // The largest |U| and, through a sum of v * 0, whether U or L holds a NaN or infinity; each
+        // column when it is final (at its own step), while it is in cache.
+        let (mut u_max, mut not_finite) = (0.0f64, 0.0f64);
+        for j in 0..n {
+            self.ipiv[j] = j as u32;
+            let km = kl.min(n - 1 - j);
+            let col = j * ldab + ku;
+            let pivot = ab[col];
+            if pivot == 0.0 || !pivot.is_finite() {
+                return Err(FactorError::ZeroPivot { row: j });
+            }
+            for &u in &ab[col - ku.min(j)..=col] {
+                let a = u.abs();
+                u_max = if a > u_max { a } else { u_max };
+                not_finite += u * 0.0;
+            }
+            let rp = 1.0 / pivot;
+            for l in &mut ab[col + 1..=col + km] {
+                *l *= rp;
+                not_finite += *l * 0.0;
+            }
+            for c in (j + 1)..=(j + ku).min(n - 1) {
+                let base = ku + j - c + c * ldab;
+                let u = ab[base];
+                if u != 0.0 {
+                    let (l, rest) = ab.split_at_mut(base + 1);
+                    let lcol = &l[col + 1..col + 1 + km];
+                    let tgt = &mut rest[..km];
+                    for (t, &m) in tgt.iter_mut().zip(lcol) {
+                        *t -= m * u;
+                    }
+                }
+            }
+        }
+        let ratio = u_max / a_max;
+        if !(ratio <= GROWTH_LIMIT && not_finite == 0.0) {
+            return Err(FactorError::Growth { ratio });
+        }
+        Ok(())
+    }
+
+    #[inline(always)]
+    fn factor_lanes(&mut self) -> Result<(), FactorError> {
         let (n, kl, ku, ldab) = (self.n, self.kl, self.ku, self.ldab);
         let kv = kl + ku;
         // Fill-in rows of the first columns must start at zero.
@@ -178,7 +334,7 @@ impl BandLu {
             }
             self.ipiv[j] = (j + jp) as u32;
             if amax == 0.0 {
-                return Err(j);
+                return Err(FactorError::ZeroPivot { row: j });
             }
             ju = ju.max((j + ku + jp).min(n - 1));
             if jp != 0 {
@@ -227,22 +383,29 @@ impl BandLu {
             type Output = ();
             #[inline(always)]
             fn with_simd<S: pulp::Simd>(self, _: S) {
-                self.0.solve_in_place(self.1)
+                if self.0.pivoting {
+                    self.0.solve_in_place::<true>(self.1)
+                } else {
+                    self.0.solve_in_place::<false>(self.1)
+                }
             }
         }
         pulp::Arch::new().dispatch(Op(self, b))
     }
 
     #[inline(always)]
-    fn solve_in_place(&self, b: &mut [f64]) {
-        let (n, kl, ku, ldab) = (self.n, self.kl, self.ku, self.ldab);
-        let kv = kl + ku;
+    fn solve_in_place<const PIVOTING: bool>(&self, b: &mut [f64]) {
+        let (n, kl, ldab) = (self.n, self.kl, self.ldab);
+        // U's bandwidth and the diagonal's row: kl + ku with pivoting, ku without.
+        let kv = self.ub();
         let ab = &self.ab;
         for j in 0..n.saturating_sub(1) {
             let km = kl.min(n - 1 - j);
-            let l = self.ipiv[j] as usize;
-            if l != j {
-                b.swap(l, j);
+            if PIVOTING {
+                let l = self.ipiv[j] as usize;
+                if l != j {
+                    b.swap(l, j);
+                }
             }
             let bj = b[j];
             if bj != 0.0 {
@@ -286,7 +449,7 @@ impl BandLu {
     /// the only -0 the solve itself makes is an element's own division, after its last update.
     #[inline(always)]
     fn back_substitute_four(&self, b: &mut [f64], c: usize) {
-        let (ldab, kv) = (self.ldab, self.kl + self.ku);
+        let (ldab, kv) = (self.ldab, self.ub());
         let ab = &self.ab;
         // Entry (r, col) of U lives at kv + r - col + col * ldab.
         let u = |r: usize, col: usize| ab[kv + r - col + col * ldab];
@@ -337,8 +500,8 @@ impl BandLu {
     /// The column-by-column solve as it was before `back_substitute_four` (tests only).
     #[cfg(test)]
     pub(crate) fn solve_reference(&self, b: &mut [f64]) {
-        let (n, kl, ku, ldab) = (self.n, self.kl, self.ku, self.ldab);
-        let kv = kl + ku;
+        let (n, kl, ldab) = (self.n, self.kl, self.ldab);
+        let kv = self.ub();
         let ab = &self.ab;
         for j in 0..n.saturating_sub(1) {
             let km = kl.min(n - 1 - j);
@@ -374,13 +537,32 @@ mod tests {
     use super::*;
     use crate::test_rng::symmetric as next;
 
+    /// The lane-wise maximum: the largest magnitude wherever it sits (lanes, tail), NaN for a NaN
+    /// or an infinity anywhere.
+    #[test]
+    fn abs_max_finds_the_largest_magnitude_and_flags_non_finite_values() {
+        for len in [0usize, 1, 7, 8, 9, 30, 57] {
+            for at in 0..len {
+                let mut v: Vec<f64> = (0..len).map(|i| (i % 5) as f64 - 2.0).collect();
+                v[at] = -3.5;
+                assert_eq!(abs_max(&v), 3.5, "len {len}, at {at}");
+                for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                    v[at] = bad;
+                    assert!(abs_max(&v).is_nan(), "len {len}, {bad} at {at}");
+                }
+            }
+        }
+        assert_eq!(abs_max(&[]), 0.0);
+    }
+
     /// Four columns per pass are a re-arrangement only: on random band matrices that need
-    /// pivoting, with identity rows and right-hand sides holding zeros (the Dirichlet rows), of
+    /// pivoting, and in the compact layout without interchanges, with identity rows and right-hand sides holding zeros (the Dirichlet rows), of
     /// sizes below, at and above the four-column threshold (kv + 4) and the film's lobe (533, kl =
     /// ku = 28), `solve` equals the column-by-column solve bit for bit.
     #[test]
     fn solve_equals_the_column_by_column_solve_bit_for_bit() {
         let mut seed = 7u64;
+        let mut seed_compact = 8u64;
         for (n, kl, ku) in [
             (12, 0, 0),
             (12, 1, 1),
@@ -395,11 +577,19 @@ mod tests {
             (60, 5, 4),
             (533, 28, 28),
         ] {
-            for diag in [0.0, 3.0] {
+            // Partial pivoting with and without a dominant diagonal; none with one.
+            // (Its own random stream for the latter, so the pivoted cases keep their matrices.)
+            for (diag, pivoting) in [(0.0, true), (3.0, true), ((kl + ku + 1) as f64, false)] {
+                let seed = if pivoting {
+                    &mut seed
+                } else {
+                    &mut seed_compact
+                };
                 let mut a = BandLu::new(n, kl, ku);
+                a.set_pivoting(pivoting);
                 for c in 0..n {
                     for r in c.saturating_sub(ku)..(c + kl + 1).min(n) {
-                        a.add(r, c, next(&mut seed) + if r == c { diag } else { 0.0 });
+                        a.add(r, c, next(seed) + if r == c { diag } else { 0.0 });
                     }
                 }
                 for r in (0..n).step_by(7) {
@@ -411,12 +601,13 @@ mod tests {
                     pivots || diag > 0.0 || kl == 0,
                     "n {n}: no interchange to test"
                 );
+                assert!(pivoting || !pivots);
                 let b: Vec<f64> = (0..n)
                     .map(|i| {
                         if i % 7 == 0 || i % 11 == 3 {
                             0.0
                         } else {
-                            next(&mut seed)
+                            next(seed)
                         }
                     })
                     .collect();

@@ -104,8 +104,10 @@ pub fn steady_from(
                 hist[i] = c0 * pb[i];
             }
             reynolds::jacobian(&mesh, &gap, k, co, pb, &mut lu);
-            lu.factor()
-                .map_err(|row| FilmError::SingularMatrix { lobe: k, row })?;
+            lu.factor().map_err(|e| FilmError::SingularMatrix {
+                lobe: k,
+                row: e.row(lu.n),
+            })?;
             reynolds::residual(&mesh, &gap, k, co, pb, &hist, src, &mut res);
             lu.solve(&mut res);
             // Damping keeps the pressure positive (P h^3 is the diffusion coefficient).

@@ -257,6 +257,8 @@ fn alternating_sub_step_sizes_reuse_a_matrix_for_each() {
     // when Newton converges slowly.
     let n_lobes = 3;
     let jacobians = st.n_jacobians - start.n_jacobians;
+    // Every one of them factorized without row interchanges (linsolve::GROWTH_LIMIT).
+    assert_eq!(st.n_pivoted_factorizations, 0, "{st:?}");
     assert!(
         jacobians <= 8 * n_lobes,
         "{jacobians} Jacobians over 59 switches of the sub-step size: {st:?}"
