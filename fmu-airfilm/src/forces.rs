@@ -55,21 +55,17 @@ impl FilmOutputs {
 }
 
 /// Pressure part of the force (N) from the scaled nodal pressures `p` of all blocks.
+/// Per phi-Gauss point, Int (P - 1) over its column (`column_integrals`) times cos and sin theta.
 pub fn pressure_force_n(prm: &BearingParams, mesh: &Mesh, geom: &Geometry, p: &[f64]) -> [f64; 2] {
-    let b = &mesh.basis;
-    let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
+    let cols = &geom.columns;
     let (mut fx, mut fy) = (0.0, 0.0);
     for k in 0..mesh.n_blocks {
         let pb = &p[k * mesh.npb..(k + 1) * mesh.npb];
-        for (e, nodes) in mesh.elem.iter().enumerate() {
-            let col = mesh.elem_col[e] as usize;
-            let pq = at_gauss_points(&b.n, nodes, pb);
-            for q in 0..9 {
-                let gi = k * geom.nq + 3 * col + q / 3;
-                let w = b.w[q] * jac * (pq[q] - 1.0);
-                fx += w * geom.cos_q[gi];
-                fy += w * geom.sin_q[gi];
-            }
+        for g in 0..geom.nq {
+            let gi = k * geom.nq + g;
+            let w = cols.p(g, pb) - cols.w_one[g];
+            fx += w * geom.cos_q[gi];
+            fy += w * geom.sin_q[gi];
         }
     }
     let s = -2.0 * prm.p_a_pa * prm.bore.r_m * prm.bore.r_m;

@@ -59,6 +59,26 @@ const GAUSS4_W: [f64; 4] = [
     0.347_854_845_137_453_9,
 ];
 
+/// The pockets' quadrature points (composite Gauss, [`POCKET_INTERVALS`] x 4 per pocket): cos theta,
+/// sin theta and the weight 0.5 dl w of each; none for a plain bore. Tabulated once per geometry.
+pub fn pocket_points(bore: &crate::Bore) -> Vec<[f64; 3]> {
+    let mut out = vec![];
+    if !bore.plain_bore {
+        let span = 2.0 * std::f64::consts::PI / bore.n_lobes as f64 - bore.phi_t_rad;
+        let dl = span / POCKET_INTERVALS as f64;
+        for k in 0..bore.n_blocks() {
+            for i in 0..POCKET_INTERVALS {
+                for (x, w) in GAUSS4_X.iter().zip(GAUSS4_W) {
+                    let s = bore.phi_t_rad + (i as f64 + 0.5 * (1.0 + x)) * dl;
+                    let theta = bore.block_start_rad(k) + s + bore.alpha_rad;
+                    out.push([theta.cos(), theta.sin(), 0.5 * dl * w]);
+                }
+            }
+        }
+    }
+    out
+}
+
 /// Friction torque of the film with the relative nodal pressures `p` (p / p_a) at journal state `j`.
 /// The gap at the Gauss points comes from `geom`'s precomputed angles (no trigonometry per call:
 /// this runs after every communication step) and is floored like the Reynolds coefficients'
@@ -75,8 +95,7 @@ pub fn friction_torque(
     let eta = prm.eta_pa_s;
     let u = j.omega_rad_s * r;
     let (ex, ey) = (j.dx_m / c, j.dy_m / c);
-    let b = &mesh.basis;
-    let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
+    let cols = &geom.columns;
     // The gap h / C at the phi-Gauss points (shared by every element of a column and by the three
     // zeta points): computed, and inverted, once per call.
     let h_rel: Vec<f64> = (0..mesh.n_blocks * geom.nq)
@@ -86,20 +105,15 @@ pub fn friction_torque(
         })
         .collect();
     let inv_h: Vec<f64> = h_rel.iter().map(|h| 1.0 / h).collect();
-    // Int dphi dzeta of 1 / H and of H dP/dphi over the lobes.
+    // Int dphi dzeta of 1 / H and of H dP/dphi over the lobes: H is a function of phi alone, so
+    // per phi-Gauss point the column's integral of 1 and of dP/dxi (dP/dphi = 2 / dphi_e of it).
     let (mut couette, mut poiseuille) = (0.0, 0.0);
     for k in 0..mesh.n_blocks {
         let pb = &p[k * mesh.npb..(k + 1) * mesh.npb];
-        for (e, nodes) in mesh.elem.iter().enumerate() {
-            let col = mesh.elem_col[e] as usize;
-            // dP/dxi at the Gauss points (dP/dphi = 2 / dphi_e of it).
-            let dp = crate::mesh::at_gauss_points(&b.dx, nodes, pb);
-            for q in 0..9 {
-                let gi = k * geom.nq + 3 * col + q / 3;
-                let w = b.w[q] * jac;
-                couette += w * inv_h[gi];
-                poiseuille += w * h_rel[gi] * dp[q];
-            }
+        for g in 0..geom.nq {
+            let gi = k * geom.nq + g;
+            couette += cols.w_one[g] * inv_h[gi];
+            poiseuille += h_rel[gi] * cols.dp(g, pb);
         }
     }
     // tau = eta U / h + (h / 2) dp / (r dphi), h = C H, dp = p_a dP.
@@ -109,19 +123,9 @@ pub fn friction_torque(
     let lobes = 2.0 * r * r * r;
     let mut pockets = 0.0;
     let bore = &prm.bore;
-    if !bore.plain_bore {
-        let span = 2.0 * std::f64::consts::PI / bore.n_lobes as f64 - bore.phi_t_rad;
-        let dl = span / POCKET_INTERVALS as f64;
-        for k in 0..bore.n_blocks() {
-            for i in 0..POCKET_INTERVALS {
-                for (x, w) in GAUSS4_X.iter().zip(GAUSS4_W) {
-                    let s = bore.phi_t_rad + (i as f64 + 0.5 * (1.0 + x)) * dl;
-                    let theta = bore.block_start_rad(k) + s + bore.alpha_rad;
-                    let h = bore.c_m + bore.dh_m - j.dx_m * theta.cos() - j.dy_m * theta.sin();
-                    pockets += 0.5 * dl * w * eta * u / h;
-                }
-            }
-        }
+    for &[cos, sin, w] in &geom.pockets {
+        let h = bore.c_m + bore.dh_m - j.dx_m * cos - j.dy_m * sin;
+        pockets += w * eta * u / h;
     }
     FrictionTorque {
         couette_lobes_nm: lobes * couette,

@@ -8,6 +8,7 @@
 //! h_floor = max(h_con / 2, 1e-3 C): the film stays well-posed (p h^3 > 0) while the penalty
 //! contact pressure (contact.rs), which starts at h_con > h_floor, carries the load there.
 
+use crate::column_integrals::ColumnIntegrals;
 use crate::mesh::Mesh;
 use crate::params::BearingParams;
 use crate::JournalState;
@@ -25,6 +26,11 @@ pub struct Geometry {
     pub dstep_rel: f64,
     /// Floor of h/C used in the Reynolds coefficients.
     pub h_floor_rel: f64,
+    /// The output integrals' functionals per phi-Gauss point (`column_integrals`).
+    pub columns: ColumnIntegrals,
+    /// The friction's pocket quadrature (`friction`): cos theta, sin theta and the weight of each
+    /// point, so a call needs no trigonometry. Empty for a plain bore.
+    pub pockets: Vec<[f64; 3]>,
 }
 
 /// Dimensionless gap H = h/C, dH/dphi and the time derivative dH/dt (1/s) at the phi-Gauss points.
@@ -61,6 +67,8 @@ impl Geometry {
             step_q,
             dstep_rel: -step_rel / span,
             h_floor_rel: (0.5 * p.contact.h_con_rel).max(1e-3),
+            columns: ColumnIntegrals::new(mesh),
+            pockets: crate::friction::pocket_points(&p.bore),
         }
     }
 

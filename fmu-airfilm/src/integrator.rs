@@ -250,6 +250,21 @@ impl AirFilm {
                 ));
             }
         }
+        let g = &self.geom;
+        let nq = 3 * self.mesh.ne_phi;
+        let n_q = self.mesh.n_blocks * nq;
+        if g.nq != nq
+            || [&g.cos_q, &g.sin_q, &g.step_q]
+                .iter()
+                .any(|v| v.len() != n_q)
+            || !g.columns.fits(nq, self.mesh.npb)
+        {
+            return Err(
+                "the geometry's tables do not fit the mesh (a state saved by another \
+                        version of the air film?)"
+                    .into(),
+            );
+        }
         if let Some(i) = self
             .lu
             .iter()
@@ -798,7 +813,21 @@ pub(crate) fn outputs_for(
     let fp = forces::pressure_force_n(prm, mesh, geom, p);
     let h_min_m = min_gap_m(&prm.bore, j);
     let fc = contact::contact_force_n(&prm.bore, &prm.contact, j, h_min_m);
-    let p_max = p.iter().cloned().fold(f64::NEG_INFINITY, f64::max) * prm.p_a_pa;
+    // In eight lanes, which vectorize (a running f64::max stays scalar); the same maximum for
+    // the film's pressures, which are never NaN (floored, and a NaN update fails the step).
+    let mut lanes = [f64::NEG_INFINITY; 8];
+    let chunks = p.chunks_exact(8);
+    let mut p_max = chunks
+        .remainder()
+        .iter()
+        .fold(f64::NEG_INFINITY, |m, &v| m.max(v));
+    for c in chunks {
+        for i in 0..8 {
+            lanes[i] = if c[i] > lanes[i] { c[i] } else { lanes[i] };
+        }
+    }
+    p_max = lanes.iter().fold(p_max, |m, &v| m.max(v));
+    let p_max = p_max * prm.p_a_pa;
     let in_force = if prm.contact_in_force { 1.0 } else { 0.0 };
     let friction_torque_nm = crate::friction::friction_torque(prm, mesh, geom, j, p).total_nm();
     FilmOutputs {

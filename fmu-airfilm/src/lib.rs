@@ -9,6 +9,7 @@
 //! about +z, (dx, dy) = journal minus ring centre. Forces are on the journal; the ring feels -F.
 //! Unknowns are scaled, P = p / p_a.
 
+pub mod column_integrals;
 pub mod contact;
 pub mod dynamic;
 pub mod error;
