@@ -59,7 +59,7 @@ const GAUSS4_W: [f64; 4] = [
     0.347_854_845_137_453_9,
 ];
 
-/// The pockets' quadrature points (composite Gauss, [`POCKET_INTERVALS`] x 4 per pocket): cos theta,
+/// The pockets' quadrature points (composite Gauss, `POCKET_INTERVALS` x 4 per pocket): cos theta,
 /// sin theta and the weight 0.5 dl w of each; none for a plain bore. Tabulated once per geometry.
 pub fn pocket_points(bore: &crate::Bore) -> Vec<[f64; 3]> {
     let mut out = vec![];
