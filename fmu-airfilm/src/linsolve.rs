@@ -59,8 +59,9 @@ pub struct BandLu {
 
 /// The largest |v| of `v`; NaN if any element is NaN or infinite. In eight independent lanes,
 /// which vectorize: a lane-wise `if a > m { a } else { m }` (the vector max instruction's own
-/// rule; f64::max's NaN rule and an integer max on the bit patterns both stayed scalar, 3-4x
-/// slower), and a lane-wise sum of v * 0, which stays 0 unless some v is NaN or infinite.
+/// rule; a running f64::max cost 17 us over one lobe's 30 000 entries, ~4 us this way, and an
+/// integer max on the bit patterns was 1.6-3.5x slower in a micro-benchmark), and a lane-wise
+/// sum of v * 0, which stays 0 unless some v is NaN or infinite.
 #[inline(always)]
 fn abs_max(v: &[f64]) -> f64 {
     let mut max = [0.0f64; 8];
