@@ -90,6 +90,33 @@ fn abs_max(v: &[f64]) -> f64 {
     }
 }
 
+/// The elimination step both factorizations share: subtracts u(j, c) times L's column j (its km
+/// entries below the diagonal) from each column c = j + 1 ..= c_last. `ub` is U's bandwidth, the
+/// diagonal's row in the band storage (kl + ku with pivoting, ku without).
+#[inline(always)]
+fn update_trailing_columns(
+    ab: &mut [f64],
+    ldab: usize,
+    ub: usize,
+    j: usize,
+    km: usize,
+    c_last: usize,
+) {
+    let col = j * ldab + ub;
+    for c in (j + 1)..=c_last {
+        let base = ub + j - c + c * ldab;
+        let u = ab[base];
+        if u != 0.0 {
+            let (l, rest) = ab.split_at_mut(base + 1);
+            let lcol = &l[col + 1..col + 1 + km];
+            let tgt = &mut rest[..km];
+            for (t, &m) in tgt.iter_mut().zip(lcol) {
+                *t -= m * u;
+            }
+        }
+    }
+}
+
 /// Source of factorization stamps (0 is never drawn).
 static NEXT_STAMP: AtomicU64 = AtomicU64::new(1);
 
@@ -284,18 +311,7 @@ impl BandLu {
                 *l *= rp;
                 not_finite += *l * 0.0;
             }
-            for c in (j + 1)..=(j + ku).min(n - 1) {
-                let base = ku + j - c + c * ldab;
-                let u = ab[base];
-                if u != 0.0 {
-                    let (l, rest) = ab.split_at_mut(base + 1);
-                    let lcol = &l[col + 1..col + 1 + km];
-                    let tgt = &mut rest[..km];
-                    for (t, &m) in tgt.iter_mut().zip(lcol) {
-                        *t -= m * u;
-                    }
-                }
-            }
+            update_trailing_columns(ab, ldab, ku, j, km, (j + ku).min(n - 1));
         }
         let ratio = u_max / a_max;
         if !(ratio <= GROWTH_LIMIT && not_finite == 0.0) {
@@ -349,18 +365,7 @@ impl BandLu {
             for i in 1..=km {
                 ab[col + i] *= rp;
             }
-            for c in (j + 1)..=ju {
-                let base = kv + j - c + c * ldab;
-                let u = ab[base];
-                if u != 0.0 {
-                    let (l, rest) = ab.split_at_mut(base + 1);
-                    let lcol = &l[col + 1..col + 1 + km];
-                    let tgt = &mut rest[..km];
-                    for (t, &m) in tgt.iter_mut().zip(lcol) {
-                        *t -= m * u;
-                    }
-                }
-            }
+            update_trailing_columns(ab, ldab, kv, j, km, ju);
         }
         Ok(())
     }
