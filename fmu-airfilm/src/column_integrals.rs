@@ -83,21 +83,23 @@ impl ColumnIntegrals {
     /// Int dP/dxi over the column of phi point `g`, for the block's nodal values `pb`.
     #[inline]
     pub fn dp(&self, g: usize, pb: &[f64]) -> f64 {
-        let r = self.start[g] as usize..self.start[g + 1] as usize;
-        self.node[r.clone()]
-            .iter()
-            .zip(&self.w_dp[r])
-            .fold(0.0, |s, (&node, &wd)| s + wd * pb[node as usize])
+        self.functional(&self.w_dp, g, pb)
     }
 
     /// Int P over the column of phi point `g`, for the block's nodal values `pb`.
     #[inline]
     pub fn p(&self, g: usize, pb: &[f64]) -> f64 {
+        self.functional(&self.w_p, g, pb)
+    }
+
+    /// sum over the entries m of point `g` of weights[m] pb[node m].
+    #[inline(always)]
+    fn functional(&self, weights: &[f64], g: usize, pb: &[f64]) -> f64 {
         let r = self.start[g] as usize..self.start[g + 1] as usize;
         self.node[r.clone()]
             .iter()
-            .zip(&self.w_p[r])
-            .fold(0.0, |s, (&node, &wp)| s + wp * pb[node as usize])
+            .zip(&weights[r])
+            .fold(0.0, |s, (&node, &w)| s + w * pb[node as usize])
     }
 
     /// Whether the tables fit a mesh with `nq` phi points per block and `npb` nodes per block (a
