@@ -693,14 +693,15 @@ impl AirFilm {
             }
             converged?;
         }
-        // Local error estimate.
+        // Local error estimate, RMS over the free nodes (a Dirichlet node's difference is 0).
+        // The count is the mesh's, not counted per node: `i % npb` in this loop was an integer
+        // division per node, ~7 us of a ~175 us sub-step.
         let mut sum = 0.0;
-        let mut cnt = 0usize;
         for i in 0..n {
             let e = fac * (s.p_new[i] - s.p_pred[i]) * s.wt[i];
             sum += e * e;
-            cnt += (!self.mesh.dirichlet[i % npb]) as usize;
         }
+        let cnt = self.mesh.n_blocks * self.mesh.dirichlet.iter().filter(|d| !**d).count();
         let err = (sum / cnt.max(1) as f64).sqrt();
         if !err.is_finite() {
             return Err(NewtonFail {

@@ -373,12 +373,14 @@ impl BandLu {
     /// Solves A x = b in place with the factors from `factor`.
     ///
     /// Compiled for the widest vector unit the CPU has (pulp's runtime dispatch); the operations
-    /// and their order are the same on every CPU, so the result is too, bit for bit. The forward
-    /// elimination stays column by column: the film's Newton matrices interchange rows in about a
-    /// quarter of their columns (132 of 533 in a whirl), so two thirds of all four-column blocks
-    /// would hold an interchange, and carrying those through a blocked pass cost more than it saved
-    /// (tried: 20 -> 28 us per solve with the interchanges tracked, no gain without them; two
-    /// columns per pass with the one interchange carried as scalars: 14.3 -> 14.2 us, not kept).
+    /// and their order are the same on every CPU, so the result is too, bit for bit. With partial
+    /// pivoting the forward elimination stays column by column: the film's Newton matrices
+    /// interchange rows in about a quarter of their columns (132 of 533 in a whirl), so two thirds
+    /// of all four-column blocks would hold an interchange, and carrying those through a blocked
+    /// pass cost more than it saved (tried: 20 -> 28 us per solve with the interchanges tracked;
+    /// two columns per pass with the one interchange carried as scalars: 14.3 -> 14.2 us, not
+    /// kept). Without interchanges it runs four columns per pass like the back substitution (one
+    /// lobe's solves 9.1-9.6 -> 7.8-8.5 us, kernel bench, alternated 3 times).
     /// The back substitution's passes subtract 0 * u where the column loop skips a column whose
     /// value is 0: bit-identical for a b without -0 entries (the film's residuals never hold one:
     /// sums that start at +0 and differences are never -0); with them, x can differ in the sign of
@@ -405,7 +407,16 @@ impl BandLu {
         // U's bandwidth and the diagonal's row: kl + ku with pivoting, ku without.
         let kv = self.ub();
         let ab = &self.ab;
-        for j in 0..n.saturating_sub(1) {
+        // Without interchanges, four columns per pass while all four reach kl rows down (see
+        // `forward_eliminate_four`), then one column at a time near the bottom.
+        let mut j0 = 0;
+        if !PIVOTING {
+            while kl >= 3 && j0 + 3 + kl < n {
+                self.forward_eliminate_four(b, j0);
+                j0 += 4;
+            }
+        }
+        for j in j0..n.saturating_sub(1) {
             let km = kl.min(n - 1 - j);
             if PIVOTING {
                 let l = self.ipiv[j] as usize;
@@ -440,6 +451,58 @@ impl BandLu {
                     *t -= u * bj;
                 }
             }
+        }
+    }
+
+    /// Forward elimination of columns j .. j+3 without interchanges (j + 3 + kl < n, kl >= 3:
+    /// all four reach kl rows down) in one pass over b, for the reason `back_substitute_four`
+    /// gives. Every element gets the same operations in the same order as in the column loop
+    /// (column j first), so the result is bit-identical to it for a b without -0 entries.
+    #[inline(always)]
+    fn forward_eliminate_four(&self, b: &mut [f64], j: usize) {
+        let (ldab, kl, kv) = (self.ldab, self.kl, self.ub());
+        let ab = &self.ab;
+        // Entry (r, col) of L (r > col) lives at kv + r - col + col * ldab.
+        let l = |r: usize, col: usize| ab[kv + r - col + col * ldab];
+        // The 4 x 4 unit lower triangle, in the column loop's order.
+        let mut x = [0.0; 4];
+        for m in 0..4 {
+            let r = j + m;
+            let mut t = b[r];
+            for (k, xk) in x.iter().enumerate().take(m) {
+                t -= l(r, j + k) * *xk;
+            }
+            b[r] = t;
+            x[m] = t;
+        }
+        // Rows j + 4 ..= j + kl: all four columns.
+        let (r0, r1) = (j + 4, j + kl + 1);
+        let len = r1 - r0;
+        let col_slice = |k: usize| {
+            let col = j + k;
+            let start = kv + r0 - col + col * ldab;
+            &ab[start..start + len]
+        };
+        let (l0, l1, l2, l3) = (col_slice(0), col_slice(1), col_slice(2), col_slice(3));
+        let [x0, x1, x2, x3] = x;
+        for ((((t, &a0), &a1), &a2), &a3) in b[r0..r1].iter_mut().zip(l0).zip(l1).zip(l2).zip(l3) {
+            let mut v = *t;
+            v -= a0 * x0;
+            v -= a1 * x1;
+            v -= a2 * x2;
+            v -= a3 * x3;
+            *t = v;
+        }
+        // Rows below j + kl reach back into fewer than four columns: 3 rows.
+        for r in r1..r1 + 3 {
+            let mut t = b[r];
+            for (k, xk) in x.iter().enumerate() {
+                let col = j + k;
+                if r <= col + kl {
+                    t -= l(r, col) * *xk;
+                }
+            }
+            b[r] = t;
         }
     }
 
@@ -562,9 +625,11 @@ mod tests {
     }
 
     /// Four columns per pass are a re-arrangement only: on random band matrices that need
-    /// pivoting, and in the compact layout without interchanges, with identity rows and right-hand sides holding zeros (the Dirichlet rows), of
-    /// sizes below, at and above the four-column threshold (kv + 4) and the film's lobe (533, kl =
-    /// ku = 28), `solve` equals the column-by-column solve bit for bit.
+    /// pivoting, and in the compact layout without interchanges (whose forward elimination runs
+    /// four columns per pass too), with identity rows and right-hand sides holding zeros (the
+    /// Dirichlet rows), of sizes below, at and above the four-column thresholds (kv + 4 back,
+    /// kl + 4 forward) and the film's lobe (533, kl = ku = 28), `solve` equals the
+    /// column-by-column solve bit for bit.
     #[test]
     fn solve_equals_the_column_by_column_solve_bit_for_bit() {
         let mut seed = 7u64;
@@ -579,6 +644,10 @@ mod tests {
             (9, 2, 3),
             (10, 2, 3),
             (11, 2, 3),
+            (6, 3, 2),
+            (7, 3, 2),
+            (8, 3, 2),
+            (11, 3, 1),
             (40, 3, 5),
             (60, 5, 4),
             (533, 28, 28),
