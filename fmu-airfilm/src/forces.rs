@@ -61,12 +61,12 @@ pub fn pressure_force_n(prm: &BearingParams, mesh: &Mesh, geom: &Geometry, p: &[
     let (mut fx, mut fy) = (0.0, 0.0);
     for k in 0..mesh.n_blocks {
         let pb = &p[k * mesh.npb..(k + 1) * mesh.npb];
-        for g in 0..geom.nq {
+        cols.each_p(pb, |g, p_int| {
             let gi = k * geom.nq + g;
-            let w = cols.p(g, pb) - cols.w_one[g];
+            let w = p_int - cols.w_one[g];
             fx += w * geom.cos_q[gi];
             fy += w * geom.sin_q[gi];
-        }
+        });
     }
     let s = -2.0 * prm.p_a_pa * prm.bore.r_m * prm.bore.r_m;
     [s * fx, s * fy]

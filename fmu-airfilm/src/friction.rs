@@ -110,11 +110,11 @@ pub fn friction_torque(
     let (mut couette, mut poiseuille) = (0.0, 0.0);
     for k in 0..mesh.n_blocks {
         let pb = &p[k * mesh.npb..(k + 1) * mesh.npb];
-        for g in 0..geom.nq {
+        cols.each_dp(pb, |g, dp_int| {
             let gi = k * geom.nq + g;
             couette += cols.w_one[g] * inv_h[gi];
-            poiseuille += h_rel[gi] * cols.dp(g, pb);
-        }
+            poiseuille += h_rel[gi] * dp_int;
+        });
     }
     // tau = eta U / h + (h / 2) dp / (r dphi), h = C H, dp = p_a dP.
     let couette = couette * eta * u / c;
