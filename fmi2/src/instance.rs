@@ -165,6 +165,9 @@ impl Log for ModelLog<'_> {
     fn warning(&mut self, message: &str) {
         self.0.log(Status::Warning, "logStatusWarning", message);
     }
+    fn enabled(&self, category: &str) -> bool {
+        self.0.enabled(category)
+    }
 }
 
 type Res = Result<Status, (Status, String)>;

@@ -29,8 +29,10 @@ impl Logger {
             instance_name: to_cstring(instance_name),
             logging_on,
             // fmi2Instantiate(loggingOn = true) enables every category, as if fmi2SetDebugLogging
-            // had been called with nCategories = 0.
-            categories: categories.iter().map(|(n, _)| (*n, true)).collect(),
+            // had been called with nCategories = 0; with loggingOn = false every category starts
+            // off, so that a later fmi2SetDebugLogging(true, categories) turns on only those listed
+            // (until 2026-12-04 all started on, and listing one category turned on all of them).
+            categories: categories.iter().map(|(n, _)| (*n, logging_on)).collect(),
         }
     }
 
@@ -57,7 +59,8 @@ impl Logger {
         unknown
     }
 
-    fn enabled(&self, category: &str) -> bool {
+    /// Whether a debug message (status fmi2OK) in `category` would be sent.
+    pub fn enabled(&self, category: &str) -> bool {
         self.logging_on
             && self
                 .categories
@@ -109,4 +112,35 @@ pub fn status_category(status: Status) -> &'static str {
 /// A C string from any Rust string: interior NULs (which C cannot carry) become spaces.
 pub fn to_cstring(s: &str) -> CString {
     CString::new(s.replace('\0', " ")).expect("NULs were replaced")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A debug category is on only while logging is on and it (or logAll) is switched on: what a
+    /// model asks before it formats a message.
+    #[test]
+    fn a_category_is_enabled_only_while_logging_is_on_and_it_is_switched_on() {
+        let cats = [
+            ("logSteps", "steps"),
+            ("logOther", "other"),
+            ("logAll", "all"),
+        ];
+        let mut off = Logger::new(None, "x", false, &cats);
+        assert!(!off.enabled("logSteps"));
+        off.set_debug_logging(true, &["logSteps".to_string()]);
+        assert!(off.enabled("logSteps"));
+        assert!(!off.enabled("logOther"));
+        off.set_debug_logging(false, &[]);
+        assert!(!off.enabled("logSteps"));
+        let mut on = Logger::new(None, "x", true, &cats);
+        assert!(on.enabled("logSteps") && on.enabled("logOther"));
+        on.set_debug_logging(false, &["logAll".to_string(), "logSteps".to_string()]);
+        assert!(!on.enabled("logSteps"));
+        // logOther is still on, but fmi2SetDebugLogging(false, ...) turned logging off.
+        assert!(!on.enabled("logOther"));
+        on.set_debug_logging(true, &["logAll".to_string()]);
+        assert!(on.enabled("logSteps"), "logAll covers every category");
+    }
 }

@@ -301,18 +301,20 @@ impl Model for AirFilmFmu {
                 }
                 self.previous = Some((t, before));
                 self.time_s = t + h;
-                log.debug(
-                    "logSolverStatistics",
-                    &format!(
-                        "t = {:.9} s: {} sub-steps ({} rejected), {} Newton iterations, {} Jacobians, last sub-step {:.3e} s",
-                        t + h,
-                        stats.n_steps,
-                        stats.n_rejected,
-                        stats.n_newton_iters,
-                        stats.n_jacobians,
-                        stats.h_last_s
-                    ),
-                );
+                if log.enabled("logSolverStatistics") {
+                    log.debug(
+                        "logSolverStatistics",
+                        &format!(
+                            "t = {:.9} s: {} sub-steps ({} rejected), {} Newton iterations, {} Jacobians, last sub-step {:.3e} s",
+                            t + h,
+                            stats.n_steps,
+                            stats.n_rejected,
+                            stats.n_newton_iters,
+                            stats.n_jacobians,
+                            stats.h_last_s
+                        ),
+                    );
+                }
                 StepOutcome::Ok
             }
             // A journal that crosses the contact limit inside the step usually does so because the

@@ -659,18 +659,20 @@ impl Model for RotorFmu {
         };
         match self.rotor.advance(t, h, &forces) {
             Ok(s) => {
-                log.debug(
-                    "logSolverStatistics",
-                    &format!(
-                        "t = {:.9} s: {} steps ({} rejected), {} Newton iterations, drift {:.2e} / {:.2e}",
-                        t + h,
-                        s.steps,
-                        s.rejected_steps,
-                        s.newton_iterations,
-                        s.max_drift_pos,
-                        s.max_drift_vel
-                    ),
-                );
+                if log.enabled("logSolverStatistics") {
+                    log.debug(
+                        "logSolverStatistics",
+                        &format!(
+                            "t = {:.9} s: {} steps ({} rejected), {} Newton iterations, drift {:.2e} / {:.2e}",
+                            t + h,
+                            s.steps,
+                            s.rejected_steps,
+                            s.newton_iterations,
+                            s.max_drift_pos,
+                            s.max_drift_vel
+                        ),
+                    );
+                }
                 StepOutcome::Ok
             }
             Err(e @ RotorError::StepFailure { .. }) => StepOutcome::Discard {

@@ -151,7 +151,9 @@ impl Model for Oscillator {
             .unwrap_or((inputs.real_at(vr::F, t), [0.0; 3]));
         self.exact_step(h, [f0, d[0], d[1], d[2]]);
         self.steps += 1;
-        log.debug("logSteps", &format!("step {t} -> {} x = {}", t + h, self.x));
+        if log.enabled("logSteps") {
+            log.debug("logSteps", &format!("step {t} -> {} x = {}", t + h, self.x));
+        }
         StepOutcome::Ok
     }
 
