@@ -65,7 +65,7 @@ pub struct RunupArgs {
     pub serial_films: bool,
     /// Macro-step control: "RTOL,ATOL_N" of the extrapolated bearing forces (a step whose
     /// extrapolated force misses the film's by more than ATOL + RTOL |F| is retried in halves,
-    /// down to 1/64), or "off" for a fixed macro step [default: 0.1,1]
+    /// down to 1/64), or "off" for a fixed macro step [default: 0.3,3; 0.1,1 until 2026-12-04]
     #[arg(long)]
     pub step_control: Option<String>,
     /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: 1e-3,100; the FMU's own

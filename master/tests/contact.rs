@@ -124,4 +124,25 @@ fn contact_in_the_rotor_converges_to_the_film_side_contact_and_needs_no_refineme
         e_coarse < 0.025 * 30e-6,
         "20 us: journal paths differ by {e_coarse} m"
     );
+    // The run-up's defaults (50 us, second-order extrapolation, the default control): the fall
+    // and the impact as close to the reference.
+    let defaults = RunupSettings::preset("path1").unwrap();
+    let (run, series) = drop_c30(
+        "rotor-default",
+        ContactSide::Rotor,
+        defaults.macro_step_us,
+        defaults.step_control,
+    );
+    let e_default = journal_difference_m(&series, &reference);
+    println!(
+        "at the defaults ({} us, control {:?}): {:.3} um, {:?}",
+        defaults.macro_step_us,
+        defaults.step_control,
+        e_default * 1e6,
+        run.control
+    );
+    assert!(
+        e_default < 0.025 * 30e-6,
+        "defaults: journal paths differ by {e_default} m"
+    );
 }
