@@ -132,8 +132,8 @@ pub trait Log {
     /// A warning (always shown).
     fn warning(&mut self, message: &str);
     /// Whether a debug message in `category` would be shown now. A model that builds a message
-    /// at every step asks first: formatting one costs about a microsecond, on every step of a
-    /// run whose logging is off. Without an answer, yes.
+    /// at every step asks first: formatting the rotor's statistics took ~0.2 s of path 1's 55 000
+    /// steps with logging off (its time in the FMU 1.47 -> 1.29 s). Without an answer, yes.
     fn enabled(&self, category: &str) -> bool {
         let _ = category;
         true

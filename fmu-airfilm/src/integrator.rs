@@ -695,7 +695,7 @@ impl AirFilm {
         }
         // Local error estimate, RMS over the free nodes (a Dirichlet node's difference is 0).
         // The count is the mesh's, not counted per node: `i % npb` in this loop was an integer
-        // division per node, ~7 us of a ~175 us sub-step.
+        // division per node, 1 599 per sub-step on the paper mesh.
         let mut sum = 0.0;
         for i in 0..n {
             let e = fac * (s.p_new[i] - s.p_pred[i]) * s.wt[i];
