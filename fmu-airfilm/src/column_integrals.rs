@@ -251,26 +251,21 @@ mod tests {
             let pb: Vec<f64> = (0..mesh.npb)
                 .map(|i| symmetric(&mut seed) * 10f64.powi((i % 5) as i32 - 2))
                 .collect();
-            let mut seen = Vec::new();
-            cols.each_p(&pb, |g, v| {
-                assert_eq!(
-                    v.to_bits(),
-                    cols.p(g, &pb).to_bits(),
-                    "{ne_phi}x{ne_z}: p at {g}"
-                );
-                seen.push(g);
-            });
-            assert_eq!(seen, (0..cols.nq()).collect::<Vec<_>>());
-            seen.clear();
-            cols.each_dp(&pb, |g, v| {
-                assert_eq!(
-                    v.to_bits(),
-                    cols.dp(g, &pb).to_bits(),
-                    "{ne_phi}x{ne_z}: dp at {g}"
-                );
-                seen.push(g);
-            });
-            assert_eq!(seen, (0..cols.nq()).collect::<Vec<_>>());
+            let label = format!("{ne_phi}x{ne_z}");
+            check_each(
+                &cols,
+                &pb,
+                &label,
+                &|c, pb, f| c.each_p(pb, f),
+                ColumnIntegrals::p,
+            );
+            check_each(
+                &cols,
+                &pb,
+                &label,
+                &|c, pb, f| c.each_dp(pb, f),
+                ColumnIntegrals::dp,
+            );
         }
         let pb: Vec<f64> = (0..40).map(|_| symmetric(&mut seed)).collect();
         let start = vec![0u32, 3, 6, 9, 12, 14, 19, 20, 23, 26, 30, 34, 38, 38, 41];
@@ -285,15 +280,35 @@ mod tests {
             w_one: vec![1.0; 14],
         };
         assert!(cols.fits(14, 40));
+        check_each(
+            &cols,
+            &pb,
+            "uneven tables",
+            &|c, pb, f| c.each_p(pb, f),
+            ColumnIntegrals::p,
+        );
+    }
+
+    /// `ColumnIntegrals::each_p` or `each_dp`, as a value.
+    type Each = dyn Fn(&ColumnIntegrals, &[f64], &mut dyn FnMut(usize, f64));
+
+    /// `each` visits every point once, in order, with `one`'s value bit for bit.
+    fn check_each(
+        cols: &ColumnIntegrals,
+        pb: &[f64],
+        label: &str,
+        each: &Each,
+        one: fn(&ColumnIntegrals, usize, &[f64]) -> f64,
+    ) {
         let mut seen = Vec::new();
-        cols.each_p(&pb, |g, v| {
+        each(cols, pb, &mut |g, v| {
             assert_eq!(
                 v.to_bits(),
-                cols.p(g, &pb).to_bits(),
-                "uneven tables: p at {g}"
+                one(cols, g, pb).to_bits(),
+                "{label}: point {g}"
             );
             seen.push(g);
         });
-        assert_eq!(seen, (0..14).collect::<Vec<_>>());
+        assert_eq!(seen, (0..cols.nq()).collect::<Vec<_>>(), "{label}");
     }
 }

@@ -117,6 +117,23 @@ fn update_trailing_columns(
     }
 }
 
+/// t -= cols[0][i] x[0], then cols[1][i] x[1], cols[2][i] x[2], cols[3][i] x[3], for every t = b[i]:
+/// four columns of a triangular solve in one pass over b, each element updated in column order
+/// (the forward and the back substitution's inner loop).
+#[inline(always)]
+fn subtract_four_columns(b: &mut [f64], cols: [&[f64]; 4], x: [f64; 4]) {
+    let [c0, c1, c2, c3] = cols;
+    let [x0, x1, x2, x3] = x;
+    for ((((t, &a0), &a1), &a2), &a3) in b.iter_mut().zip(c0).zip(c1).zip(c2).zip(c3) {
+        let mut v = *t;
+        v -= a0 * x0;
+        v -= a1 * x1;
+        v -= a2 * x2;
+        v -= a3 * x3;
+        *t = v;
+    }
+}
+
 /// Source of factorization stamps (0 is never drawn).
 static NEXT_STAMP: AtomicU64 = AtomicU64::new(1);
 
@@ -483,16 +500,8 @@ impl BandLu {
             let start = kv + r0 - col + col * ldab;
             &ab[start..start + len]
         };
-        let (l0, l1, l2, l3) = (col_slice(0), col_slice(1), col_slice(2), col_slice(3));
-        let [x0, x1, x2, x3] = x;
-        for ((((t, &a0), &a1), &a2), &a3) in b[r0..r1].iter_mut().zip(l0).zip(l1).zip(l2).zip(l3) {
-            let mut v = *t;
-            v -= a0 * x0;
-            v -= a1 * x1;
-            v -= a2 * x2;
-            v -= a3 * x3;
-            *t = v;
-        }
+        let cols = [col_slice(0), col_slice(1), col_slice(2), col_slice(3)];
+        subtract_four_columns(&mut b[r0..r1], cols, x);
         // Rows below j + kl reach back into fewer than four columns: 3 rows.
         for r in r1..r1 + 3 {
             let mut t = b[r];
@@ -554,16 +563,8 @@ impl BandLu {
             let start = kv + r0 - col + col * ldab;
             &ab[start..start + len]
         };
-        let (u0, u1, u2, u3) = (col_slice(0), col_slice(1), col_slice(2), col_slice(3));
-        let [x0, x1, x2, x3] = x;
-        for ((((t, &a0), &a1), &a2), &a3) in b[r0..r1].iter_mut().zip(u0).zip(u1).zip(u2).zip(u3) {
-            let mut v = *t;
-            v -= a0 * x0;
-            v -= a1 * x1;
-            v -= a2 * x2;
-            v -= a3 * x3;
-            *t = v;
-        }
+        let cols = [col_slice(0), col_slice(1), col_slice(2), col_slice(3)];
+        subtract_four_columns(&mut b[r0..r1], cols, x);
     }
 
     /// The column-by-column solve as it was before `back_substitute_four` (tests only).
