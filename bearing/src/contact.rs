@@ -14,7 +14,7 @@
 //! composite Gauss quadrature. The minimum itself has a closed form (the rotor evaluates this
 //! inside its Newton iterations and finite-difference Jacobians, so it must be cheap).
 
-use crate::bore::{gap_m, lobe_minimum, newton_minimum, Bore};
+use crate::bore::{gap_at_m, gap_m, lobe_minimum, newton_minimum, Bore};
 use crate::quadrature::{GAUSS3_W, GAUSS3_X};
 use crate::JournalState;
 use serde::{Deserialize, Serialize};
@@ -158,12 +158,12 @@ fn band_force(
     for panel in 0..BAND_PANELS {
         for q in 0..3 {
             let s = a + (panel as f64 + 0.5 * (1.0 + GAUSS3_X[q])) * w_panel;
-            let pen = h_con - gap_m(p, k, s, j);
+            let (sin, cos) = p.theta_rad(k, s).sin_cos();
+            let pen = h_con - gap_at_m(p, s, j, (sin, cos));
             if pen > 0.0 {
-                let theta = p.block_start_rad(k) + s + p.alpha_rad;
                 let w = 0.5 * w_panel * GAUSS3_W[q] * c_con_n_per_m3 * pen;
-                f[0] -= w * theta.cos();
-                f[1] -= w * theta.sin();
+                f[0] -= w * cos;
+                f[1] -= w * sin;
             }
         }
     }
@@ -212,15 +212,22 @@ fn lobe_band(p: &Bore, k: usize, j: &JournalState, h_con: f64) -> Option<(f64, f
     if h_min >= h_con {
         return None;
     }
+    // Newton starts where the parabola through the minimum with the gap's curvature there,
+    // h'' = dx cos(theta) + dy sin(theta) (the step is linear), reaches h_con: a band is a small
+    // fraction of the lobe, so that is close to the crossing (4-5 iterations to full precision
+    // instead of ~10 from the lobe's end, which took 40 % of a contact evaluation).
+    let (sin, cos) = p.theta_rad(k, s_min).sin_cos();
+    let curvature = j.dx_m * cos + j.dy_m * sin;
+    let half_width = (2.0 * (h_con - h_min) / curvature).sqrt();
     let a = if gap_m(p, k, 0.0, j) < h_con {
         0.0
     } else {
-        crossing(p, k, j, h_con, 0.0, s_min)
+        crossing(p, k, j, h_con, 0.0, s_min, s_min - half_width)
     };
     let b = if gap_m(p, k, span, j) < h_con {
         span
     } else {
-        crossing(p, k, j, h_con, span, s_min)
+        crossing(p, k, j, h_con, span, s_min, s_min + half_width)
     };
     Some((a, b))
 }
@@ -255,12 +262,12 @@ fn sampled_bands(p: &Bore, k: usize, j: &JournalState, h_con: f64) -> [Option<(f
         let a = if h[lo] < h_con {
             0.0
         } else {
-            crossing(p, k, j, h_con, s_at(lo), s_min)
+            crossing(p, k, j, h_con, s_at(lo), s_min, s_at(lo))
         };
         let b = if h[hi] < h_con {
             span
         } else {
-            crossing(p, k, j, h_con, s_at(hi), s_min)
+            crossing(p, k, j, h_con, s_at(hi), s_min, s_at(hi))
         };
         let (a, b) = (a.min(s_min), b.max(s_min));
         if bands[..n]
@@ -289,15 +296,27 @@ fn refine_minimum(p: &Bore, k: usize, j: &JournalState, s0: f64, span: f64) -> f
 
 /// The angle between `s_out` (h >= h_con) and `s_in` (h < h_con) where h = h_con. Between them
 /// the points with h < h_con form one interval ending at `s_in` (they lie where h is convex), so
-/// the crossing is unique. Newton, safeguarded by bisection when a step leaves the bracket.
-fn crossing(p: &Bore, k: usize, j: &JournalState, h_con: f64, s_out: f64, s_in: f64) -> f64 {
+/// the crossing is unique. Newton from `s_start` (from `s_out` if that is not strictly between
+/// the two, or not a number), safeguarded by bisection when a step leaves the bracket.
+fn crossing(
+    p: &Bore,
+    k: usize,
+    j: &JournalState,
+    h_con: f64,
+    s_out: f64,
+    s_in: f64,
+    s_start: f64,
+) -> f64 {
     let dstep = p.step_slope();
     let (mut out, mut inside) = (s_out, s_in);
-    let mut s = s_out;
+    let mut s = if (s_start - s_out) * (s_start - s_in) < 0.0 {
+        s_start
+    } else {
+        s_out
+    };
     for _ in 0..100 {
-        let theta = p.block_start_rad(k) + s + p.alpha_rad;
-        let (sin, cos) = theta.sin_cos();
-        let f = gap_m(p, k, s, j) - h_con;
+        let (sin, cos) = p.theta_rad(k, s).sin_cos();
+        let f = gap_at_m(p, s, j, (sin, cos)) - h_con;
         if f >= 0.0 {
             out = s;
         } else {
@@ -417,6 +436,51 @@ mod tests {
             fr[0] < -1.0 && ((f[0] - fr[0]) / fr[0]).abs() < 1e-6,
             "{f:?} vs {fr:?}"
         );
+    }
+
+    #[test]
+    fn band_ends_from_the_parabola_start_are_the_crossings() {
+        // Newton started near the crossing (lobe_band) and started at the lobe's end (the
+        // bracket's outer side, as before) find the same angle, where h = h_con.
+        let law = ContactLaw::paper();
+        for p in [
+            Bore::paper(),
+            Bore {
+                dh_m: 0.0,
+                c_m: 15e-6,
+                ..Bore::paper()
+            },
+        ] {
+            let h_con = law.h_con_rel * p.c_m;
+            let mut n_ends = 0;
+            for i in 0..720 {
+                let th = (i as f64 + 0.37) * std::f64::consts::PI / 360.0;
+                for r_rel in [0.9601, 0.961, 0.965, 0.99, 1.0, 1.05, 1.2, 1.5] {
+                    let r = r_rel * p.c_m;
+                    let j = JournalState::at(r * th.cos(), r * th.sin(), 0.0);
+                    for k in 0..p.n_blocks() {
+                        let Some((a, b)) = lobe_band(&p, k, &j, h_con) else {
+                            continue;
+                        };
+                        let (s_min, _) = lobe_minimum(&p, k, &j);
+                        for (end, s_out) in [(a, 0.0), (b, p.phi_t_rad)] {
+                            if end == s_out {
+                                continue;
+                            }
+                            let old = crossing(&p, k, &j, h_con, s_out, s_min, s_out);
+                            assert!(
+                                (end - old).abs() <= 1e-13,
+                                "lobe {k}, theta {th}, r {r_rel} C: {end} vs {old}"
+                            );
+                            let h = gap_m(&p, k, end, &j);
+                            assert!((h - h_con).abs() <= 1e-12 * p.c_m, "{h} vs {h_con}");
+                            n_ends += 1;
+                        }
+                    }
+                }
+            }
+            assert!(n_ends > 1000, "only {n_ends} band ends");
+        }
     }
 
     #[test]
