@@ -637,9 +637,9 @@ pub const RECORDED: &[&str] = &[
 /// early with either order).
 pub const DEFAULT_MACRO_STEP_US: f64 = 50.0;
 /// Default macro step while the rotor is calm [us] (`crate::calm_steps`): where every mode of the
-/// linearized rotor has a damping ratio of 0.05 or more, before any instability. 100 us is the
-/// air films' own largest step (`h_max`), so they take one sub-step per macro step there instead
-/// of two.
+/// linearized rotor has a damping ratio of `calm_steps::CALM_DAMPING_RATIO` (0.02) or more,
+/// before any instability. 100 us is the air films' own largest step (`h_max`), so they take one
+/// sub-step per macro step there instead of two.
 pub const DEFAULT_CALM_MACRO_STEP_US: f64 = 100.0;
 /// Default interval of the recorded time series [us].
 pub const DEFAULT_OUTPUT_INTERVAL_US: f64 = 50.0;

@@ -30,7 +30,7 @@ pub struct RunupArgs {
     #[arg(long)]
     pub macro_step: Option<f64>,
     /// Macro step [us] before the rotor nears any instability, where the linear stability
-    /// analysis finds every mode damped by 5 % or more (docs/convergence.md, "Calm macro
+    /// analysis finds every mode damped by 2 % or more (docs/convergence.md, "Calm macro
     /// steps"); a multiple of --macro-step, or "off" [default: 100]
     #[arg(long)]
     pub calm_macro_step: Option<String>,
