@@ -24,6 +24,7 @@ use crate::params::BearingParams;
 use crate::reynolds::{self, Coeffs};
 use crate::{contact, JournalState};
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// Newton tolerance on the weighted update norm (the local error tolerance is 1).
 const NEWTON_TOL: f64 = 0.05;
@@ -103,6 +104,8 @@ struct Scratch {
     p_new: Vec<f64>,
     p_pred: Vec<f64>,
     wt: Vec<f64>,
+    /// Factorized matrices off duty, for [`matrix_to_refactor`]; also not part of a copy.
+    spare_lu: Vec<Arc<BandLu>>,
 }
 
 impl Clone for Scratch {
@@ -134,7 +137,8 @@ pub struct AirFilm {
     /// Factorized Newton matrices, [`SLOTS_PER_LOBE`] per block (slot i of block k at
     /// k * SLOTS_PER_LOBE + i; see [`factor_slots`]), whether each may be used, the c0 it was
     /// assembled with, its age and the sub-steps since it was last used (accepted sub-steps).
-    lu: Vec<BandLu>,
+    /// Shared with the saved copies of this film (see [`matrix_to_refactor`]).
+    lu: Vec<Arc<BandLu>>,
     lu_valid: Vec<bool>,
     lu_c0: Vec<f64>,
     lu_age: Vec<u32>,
@@ -148,9 +152,12 @@ pub struct AirFilm {
 
 /// `clone_from` is the FMU state save and restore of a master that rolls back (every macro step
 /// under macro-step control): it reuses the destination's buffers, copies the mesh and geometry
-/// only when the parameters differ (they are functions of the parameters), and the factorized
-/// Jacobians only when they changed since the destination got them ([`BandLu`] stamps). That
-/// leaves the three pressure levels, ~40 kB on the paper mesh.
+/// only when the parameters differ (they are functions of the parameters), and shares the
+/// factorized Jacobians (reference counts; a film refactorizes into a matrix no copy holds,
+/// [`matrix_to_refactor`]). That leaves the three pressure levels, ~40 kB on the paper mesh.
+/// Until 2026-12-05 a copy took each matrix that changed since the destination got it, 360 kB
+/// each: 12.7 s of a 300 s run-up whose journals ride on their rings (C15/dH0/d50), where
+/// a lobe refactorizes every third sub-step.
 impl Clone for AirFilm {
     fn clone(&self) -> Self {
         let mut c = AirFilm {
@@ -287,7 +294,7 @@ impl AirFilm {
         let n_slots = mesh.n_blocks * SLOTS_PER_LOBE;
         Ok(AirFilm {
             lu: (0..n_slots)
-                .map(|_| BandLu::new(mesh.npb, mesh.kl, mesh.ku))
+                .map(|_| Arc::new(BandLu::new(mesh.npb, mesh.kl, mesh.ku)))
                 .collect(),
             lu_valid: vec![false; n_slots],
             lu_c0: vec![0.0; n_slots],
@@ -640,7 +647,7 @@ impl AirFilm {
                     // factorized with partial pivoting.
                     let mut factored = Err(FactorError::ZeroPivot { row: 0 });
                     for pivoting in [false, true] {
-                        let lu = &mut self.lu[m];
+                        let lu = matrix_to_refactor(&mut self.lu[m], &mut s.spare_lu, &self.mesh);
                         lu.set_pivoting(pivoting);
                         reynolds::jacobian(&self.mesh, &s.gap, k, co, &s.p_new[r.clone()], lu);
                         self.lu_valid[m] = false;
@@ -711,6 +718,38 @@ impl AirFilm {
         }
         Ok((err, order))
     }
+}
+
+/// Spare matrices a film keeps at most: one per slot covers a master that holds one saved copy
+/// (its rollback state); more saved copies pin their own matrices and need no spares.
+const MAX_SPARE_MATRICES_PER_SLOT: usize = 2;
+
+/// The matrix in `slot`, to be assembled and factorized anew. Where a saved copy of the film
+/// still holds it (an FMU state, the master's rollback copy), a spare that no copy holds any more
+/// takes its place (a new one while there is none), and the held one joins the spares: saving a
+/// state never copies a matrix, and refactorizing copies none either. The matrix's old contents
+/// are never read: the Jacobian's assembly clears the band (`BandLu::zero`) and `set_pivoting`
+/// sizes it.
+fn matrix_to_refactor<'a>(
+    slot: &'a mut Arc<BandLu>,
+    spares: &mut Vec<Arc<BandLu>>,
+    mesh: &Mesh,
+) -> &'a mut BandLu {
+    if Arc::get_mut(slot).is_none() {
+        // A spare only this film refers to is nobody else's: no copy can reach it.
+        let free = spares.iter().position(|m| Arc::strong_count(m) == 1);
+        let fresh = match free {
+            Some(i) => spares.swap_remove(i),
+            None => Arc::new(BandLu::new(mesh.npb, mesh.kl, mesh.ku)),
+        };
+        spares.push(std::mem::replace(slot, fresh));
+        let cap = MAX_SPARE_MATRICES_PER_SLOT * mesh.n_blocks * SLOTS_PER_LOBE;
+        if spares.len() > cap {
+            // The oldest first; a copy that still holds one keeps it alive.
+            spares.drain(..spares.len() - cap);
+        }
+    }
+    Arc::get_mut(slot).expect("no copy holds the slot's matrix now")
 }
 
 /// Step-size ratio from the weighted error of a step of order `order`.
@@ -927,7 +966,7 @@ mod tests {
             n_hist: f.n_hist,
             h_next_s: f.h_next_s,
             journal: f.journal,
-            lu: f.lu.iter().step_by(SLOTS_PER_LOBE).collect(),
+            lu: f.lu.iter().step_by(SLOTS_PER_LOBE).map(|m| &**m).collect(),
             lu_valid: f.lu_valid.iter().step_by(SLOTS_PER_LOBE).copied().collect(),
             lu_c0: every_first(&f.lu_c0),
             lu_age: f.lu_age.iter().step_by(SLOTS_PER_LOBE).copied().collect(),
@@ -944,7 +983,7 @@ mod tests {
         }
         // A matrix of the wrong size in the right number of slots.
         let mut g = f.clone();
-        g.lu[1] = BandLu::new(4, 1, 1);
+        g.lu[1] = Arc::new(BandLu::new(4, 1, 1));
         assert!(g.check_layout().unwrap_err().contains("matrix 1"));
     }
 
@@ -1046,5 +1085,68 @@ mod tests {
         total.add(&stats);
         total.add(&stats);
         assert_eq!(total.n_pressure_floored, 6);
+    }
+
+    /// A master saves the film before every macro step and restores it after a rejected one. The
+    /// copy shares the factorized matrices; a refactorization after the save goes into a matrix
+    /// no copy holds, so the copy's stay as they were (tests/transient.rs replays from such
+    /// copies bit for bit), and the spares the film keeps for that stay bounded.
+    #[test]
+    fn a_saved_copy_shares_the_matrices_and_stepping_on_never_writes_into_them() {
+        let prm = BearingParams {
+            n_elem_phi: 6,
+            n_elem_z: 2,
+            ..BearingParams::paper()
+        };
+        let c = prm.bore.c_m;
+        // A whirl of 0.4 C at 800 Hz: the gap moves enough for the lobes to refactorize.
+        let orbit = |t: f64| {
+            let a = 2.0 * PI * 800.0 * t;
+            JournalState::at(0.4 * c * a.cos(), 0.4 * c * a.sin(), 6000.0)
+        };
+        let h = 1e-5;
+        let mut f = AirFilm::new(prm).unwrap();
+        let mut k = 0;
+        let mut step = |f: &mut AirFilm, n: usize| {
+            for _ in 0..n {
+                f.advance(k as f64 * h, h, &orbit).unwrap();
+                k += 1;
+            }
+        };
+        step(&mut f, 20);
+        let mut saved = f.clone();
+        let cap = MAX_SPARE_MATRICES_PER_SLOT * f.lu.len();
+        let mut refactorized_after_a_save = 0;
+        for _round in 0..30 {
+            saved.clone_from(&f);
+            assert!(f.lu.iter().zip(&saved.lu).all(|(a, b)| Arc::ptr_eq(a, b)));
+            let held: Vec<Arc<BandLu>> = saved.lu.clone();
+            let jacobians = f.total_stats().n_jacobians;
+            step(&mut f, 3);
+            let refactorized = f.total_stats().n_jacobians - jacobians;
+            refactorized_after_a_save += refactorized;
+            // The copy still holds the very matrices it was saved with ...
+            assert!(saved.lu.iter().zip(&held).all(|(a, b)| Arc::ptr_eq(a, b)));
+            // ... and the film holds other ones where it refactorized.
+            let moved =
+                f.lu.iter()
+                    .zip(&saved.lu)
+                    .filter(|(a, b)| !Arc::ptr_eq(a, b))
+                    .count();
+            assert!(
+                moved <= refactorized,
+                "{moved} slots moved, {refactorized} refactorized"
+            );
+            assert!(refactorized == 0 || moved > 0);
+            assert!(
+                f.scratch.spare_lu.len() <= cap,
+                "{}",
+                f.scratch.spare_lu.len()
+            );
+        }
+        assert!(
+            refactorized_after_a_save >= 10,
+            "only {refactorized_after_a_save} refactorizations: the test would mean nothing"
+        );
     }
 }

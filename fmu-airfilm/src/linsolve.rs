@@ -10,7 +10,6 @@
 //! allocate nothing.
 
 use serde::{Deserialize, Serialize};
-use std::sync::atomic::{AtomicU64, Ordering};
 
 /// Without row interchanges, a factorization whose U has an entry larger than this many times the
 /// matrix's largest is refused ([`FactorError::Growth`]): the backward error of LU grows with
@@ -39,7 +38,7 @@ impl FactorError {
     }
 }
 
-#[derive(Debug, Serialize, Deserialize)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct BandLu {
     pub n: usize,
     pub kl: usize,
@@ -49,12 +48,6 @@ pub struct BandLu {
     ipiv: Vec<u32>,
     /// Partial pivoting (LAPACK's layout) or none (the compact layout).
     pivoting: bool,
-    /// Names the current contents: a successful `factor` draws a process-wide unique stamp, every
-    /// other change sets 0 ("unknown"). Equal non-zero stamps mean equal contents, which lets
-    /// `clone_from` skip the copy (an FMU state saved at every macro step holds factors that
-    /// change only every few dozen steps). Not serialized: a deserialized matrix is "unknown".
-    #[serde(skip)]
-    stamp: u64,
 }
 
 /// The largest |v| of `v`; NaN if any element is NaN or infinite. In eight independent lanes,
@@ -134,45 +127,6 @@ fn subtract_four_columns(b: &mut [f64], cols: [&[f64]; 4], x: [f64; 4]) {
     }
 }
 
-/// Source of factorization stamps (0 is never drawn).
-static NEXT_STAMP: AtomicU64 = AtomicU64::new(1);
-
-impl Clone for BandLu {
-    fn clone(&self) -> Self {
-        BandLu {
-            n: self.n,
-            kl: self.kl,
-            ku: self.ku,
-            ldab: self.ldab,
-            ab: self.ab.clone(),
-            ipiv: self.ipiv.clone(),
-            pivoting: self.pivoting,
-            stamp: self.stamp,
-        }
-    }
-
-    fn clone_from(&mut self, src: &Self) {
-        if self.stamp != 0 && self.stamp == src.stamp {
-            return;
-        }
-        let BandLu {
-            n,
-            kl,
-            ku,
-            ldab,
-            ab,
-            ipiv,
-            pivoting,
-            stamp,
-        } = src;
-        (self.n, self.kl, self.ku, self.ldab) = (*n, *kl, *ku, *ldab);
-        self.ab.clone_from(ab);
-        self.ipiv.clone_from(ipiv);
-        self.pivoting = *pivoting;
-        self.stamp = *stamp;
-    }
-}
-
 impl BandLu {
     /// An n x n zero matrix of bandwidths kl, ku, to be factorized with partial pivoting.
     pub fn new(n: usize, kl: usize, ku: usize) -> Self {
@@ -185,7 +139,6 @@ impl BandLu {
             ab: vec![0.0; ldab * n],
             ipiv: vec![0; n],
             pivoting: true,
-            stamp: 0,
         }
     }
 
@@ -216,7 +169,6 @@ impl BandLu {
             self.ldab = Self::ldab_for(self.kl, self.ku, pivoting);
             self.ab.clear();
             self.ab.resize(self.ldab * self.n, 0.0);
-            self.stamp = 0;
         }
     }
 
@@ -233,7 +185,6 @@ impl BandLu {
 
     /// Clears the matrix before assembly.
     pub fn zero(&mut self) {
-        self.stamp = 0;
         self.ab.iter_mut().for_each(|v| *v = 0.0);
     }
 
@@ -247,7 +198,6 @@ impl BandLu {
     pub fn add(&mut self, r: usize, c: usize, v: f64) {
         debug_assert!(r + self.ku >= c && c + self.kl >= r);
         let i = self.idx(r, c);
-        self.stamp = 0;
         self.ab[i] += v;
     }
 
@@ -262,7 +212,6 @@ impl BandLu {
 
     /// Replaces row r by the identity row (Dirichlet node).
     pub fn set_identity_row(&mut self, r: usize) {
-        self.stamp = 0;
         let c0 = r.saturating_sub(self.kl);
         let c1 = (r + self.ku).min(self.n - 1);
         for c in c0..=c1 {
@@ -277,10 +226,7 @@ impl BandLu {
     /// Without, a factorization that is not stable ([`GROWTH_LIMIT`]) fails: assemble again and
     /// factorize with pivoting. After a failure the contents are undefined.
     pub fn factor(&mut self) -> Result<(), FactorError> {
-        self.stamp = 0;
-        self.factor_in_place()?;
-        self.stamp = NEXT_STAMP.fetch_add(1, Ordering::Relaxed);
-        Ok(())
+        self.factor_in_place()
     }
 
     /// Compiled for the widest vector unit the CPU has, like `solve`.
