@@ -59,6 +59,17 @@ impl Logger {
         unknown
     }
 
+    /// Logging on, and every category switched to `on(name)`: a wrapper with its own filter (the
+    /// FMI 3.0 sink of crate `fmi3`) keeps this logger's categories equal to it, so that a model
+    /// that asks [`Logger::enabled`] before it formats a debug message skips the ones the filter
+    /// would drop. Warnings and errors are sent regardless, as always; the wrapper filters them.
+    pub fn mirror(&mut self, on: impl Fn(&str) -> bool) {
+        self.logging_on = true;
+        for c in &mut self.categories {
+            c.1 = on(c.0);
+        }
+    }
+
     /// Whether a debug message (status fmi2OK) in `category` would be sent.
     pub fn enabled(&self, category: &str) -> bool {
         self.logging_on

@@ -9,7 +9,11 @@
 //! `loggingOn = false` at instantiation turns every category off and the callback is never called;
 //! fmi3SetDebugLogging switches the listed categories (all of them when none are listed). A message
 //! goes out when its category, or `logAll`, is on. The fmi2 logger is created with logging on and
-//! is never switched, so every message reaches the sink and this one policy decides.
+//! its categories follow the sink's (`Sink::mirror_into`, after instantiation and after every
+//! fmi3SetDebugLogging): a model that asks whether a debug category is on before it formats a
+//! message (the film's and the rotor's per-step solver statistics) gets the sink's answer. Until
+//! 2026-12-05 every category stayed on, so an FMI 3.0 FMU formatted them at every step for the
+//! sink to drop. Warnings and errors always reach the sink, and this one policy decides.
 
 use crate::types::*;
 use fmi2::types::Fmi2CallbackFunctions;
@@ -141,6 +145,16 @@ impl Sink {
             step_finished: None,
             component_environment: self.0.as_ptr() as *mut c_void,
         }
+    }
+
+    /// Whether a message in `category` goes out to the importer.
+    pub fn enabled(&self, category: &str) -> bool {
+        self.get().enabled(category)
+    }
+
+    /// Switches the fmi2 logger's categories to this sink's filter (see the module's header).
+    pub fn mirror_into(&self, logger: &mut fmi2::logging::Logger) {
+        logger.mirror(|category| self.enabled(category));
     }
 
     /// fmi3SetDebugLogging: switches the named categories (all with no names). Returns the names it

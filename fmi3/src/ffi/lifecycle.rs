@@ -91,7 +91,8 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
         let uri = resources
             .filter(|p| !p.is_empty())
             .map(|p| fmi2::resource::path_to_uri(std::path::Path::new(p)));
-        // Logging on for the fmi2 logger: the sink applies the FMI 3.0 filter (logging.rs).
+        // Logging on for the fmi2 logger, its categories the sink's: the sink applies the FMI 3.0
+        // filter (logging.rs).
         match fmi2::instance::Instance::<M>::new(
             name,
             token,
@@ -99,12 +100,15 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
             Some(sink.fmi2_callbacks()),
             true,
         ) {
-            Ok(inner) => Box::into_raw(Box::new(Shell::new(
-                Instance::new(inner, sink),
-                early_return_allowed,
-                intermediate_update,
-                instance_environment,
-            ))) as fmi3Instance,
+            Ok(mut inner) => {
+                sink.mirror_into(&mut inner.logger);
+                Box::into_raw(Box::new(Shell::new(
+                    Instance::new(inner, sink),
+                    early_return_allowed,
+                    intermediate_update,
+                    instance_environment,
+                ))) as fmi3Instance
+            }
             Err((logger, reason)) => {
                 logger.reject(Status::Error, F, &reason);
                 // The logger points to the sink: drop it first.
@@ -193,6 +197,7 @@ pub unsafe fn set_debug_logging<M: Model>(
         };
         inst.run(F, state::MASK_SET_DEBUG_LOGGING, |i| {
             let unknown = i.sink.set_debug_logging(logging_on, &names);
+            i.sink.mirror_into(&mut i.inner.logger);
             if unknown.is_empty() {
                 Ok(Status::Ok)
             } else {

@@ -234,6 +234,16 @@ fn a_discarded_step_needs_a_restore_or_terminate() {
     assert_eq!(fmi3Terminate(f.instance), FMI3_OK);
 }
 
+/// Whether the model, asking its fmi2 logger before formatting a debug message, hears that
+/// `category` is on.
+fn model_hears_on(f: &Fmu, category: &str) -> bool {
+    // SAFETY: a live instance of this test's model, not inside a call.
+    let shell = unsafe { crate::ffi::shell::<Lag>(f.instance) }.expect("live instance");
+    // SAFETY: no FMI call is running on the instance, so nothing borrows it mutably.
+    let instance = unsafe { &*shell.instance.get() };
+    instance.inner.logger.enabled(category)
+}
+
 #[test]
 fn logging_follows_fmi3_rules() {
     let f = Fmu::try_new("quiet", &token(), false, false).expect("instantiated");
@@ -242,6 +252,8 @@ fn logging_follows_fmi3_rules() {
         f.messages().is_empty(),
         "loggingOn = false: the callback is never called"
     );
+    // The model's own question follows the FMI 3.0 filter: nothing is on yet.
+    assert!(!model_hears_on(&f, "logSteps") && !model_hears_on(&f, "logAll"));
     let cats = [c"logStatusError".as_ptr()];
     // SAFETY: one category string.
     assert_eq!(
@@ -258,6 +270,7 @@ fn logging_follows_fmi3_rules() {
         unsafe { fmi3SetDebugLogging(f.instance, true, 1, cats.as_ptr()) },
         FMI3_WARNING
     );
+    assert!(!model_hears_on(&f, "logSteps"));
     // Model debug messages go out in their own category once it is on.
     let cats = [c"logSteps".as_ptr()];
     // SAFETY: as above.
@@ -265,6 +278,8 @@ fn logging_follows_fmi3_rules() {
         unsafe { fmi3SetDebugLogging(f.instance, true, 1, cats.as_ptr()) },
         FMI3_OK
     );
+    assert!(model_hears_on(&f, "logSteps"));
+    assert!(!model_hears_on(&f, "logEvents"), "only the listed category");
     assert_eq!(
         fmi3EnterInitializationMode(f.instance, false, 0.0, 0.0, false, 0.0),
         FMI3_OK
@@ -275,6 +290,23 @@ fn logging_follows_fmi3_rules() {
     let last = m.last().unwrap();
     assert_eq!((last.0, last.1.as_str()), (FMI3_OK, "logSteps"));
     assert!(last.2.contains("step 0 -> 0.1"), "{}", last.2);
+    // Off again for that category only; logAll switches on every one.
+    // SAFETY: as above.
+    assert_eq!(
+        unsafe { fmi3SetDebugLogging(f.instance, false, 1, cats.as_ptr()) },
+        FMI3_OK
+    );
+    assert!(!model_hears_on(&f, "logSteps") && model_hears_on(&f, "logStatusError"));
+    let all = [c"logAll".as_ptr()];
+    // SAFETY: as above.
+    assert_eq!(
+        unsafe { fmi3SetDebugLogging(f.instance, true, 1, all.as_ptr()) },
+        FMI3_OK
+    );
+    assert!(model_hears_on(&f, "logSteps") && model_hears_on(&f, "logEvents"));
+    // loggingOn = true at instantiation: every category is on, for the model too.
+    let loud = Fmu::try_new("loud", &token(), true, false).expect("instantiated");
+    assert!(model_hears_on(&loud, "logSteps"));
 }
 
 #[test]
