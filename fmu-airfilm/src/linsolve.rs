@@ -210,6 +210,19 @@ impl BandLu {
         }
     }
 
+    /// Adds `vals[i]` to entry (r, cols[i]) for every i: one element matrix's row; every (r, c)
+    /// must lie inside the band. The same additions as `add` in the same order (so the same
+    /// bits), with the band's layout read once per row.
+    #[inline(always)]
+    pub fn add_row(&mut self, r: usize, cols: &[u32], vals: &[f64]) {
+        let (ub, ldab) = (self.ub(), self.ldab);
+        for (&c, &v) in cols.iter().zip(vals) {
+            let c = c as usize;
+            debug_assert!(r + self.ku >= c && c + self.kl >= r);
+            self.ab[ub + r - c + c * ldab] += v;
+        }
+    }
+
     /// Replaces row r by the identity row (Dirichlet node).
     pub fn set_identity_row(&mut self, r: usize) {
         let c0 = r.saturating_sub(self.kl);

@@ -285,10 +285,7 @@ fn jacobian_lanes(mesh: &Mesh, gap: &GapField, k: usize, co: Coeffs, p: &[f64], 
             }
         }
         for a in 0..9 {
-            let r = nodes[a] as usize;
-            for bb in 0..9 {
-                lu.add(r, nodes[bb] as usize, ke[a][bb]);
-            }
+            lu.add_row(nodes[a] as usize, &nodes[..], &ke[a]);
         }
     }
     for (i, d) in mesh.dirichlet.iter().enumerate() {
