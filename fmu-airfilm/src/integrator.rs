@@ -104,7 +104,7 @@ struct Scratch {
     p_new: Vec<f64>,
     p_pred: Vec<f64>,
     wt: Vec<f64>,
-    /// Factorized matrices off duty, for [`matrix_to_refactor`]; also not part of a copy.
+    /// Factorized matrices off duty, for `matrix_to_refactor`; also not part of a copy.
     spare_lu: Vec<Arc<BandLu>>,
 }
 
@@ -137,7 +137,7 @@ pub struct AirFilm {
     /// Factorized Newton matrices, [`SLOTS_PER_LOBE`] per block (slot i of block k at
     /// k * SLOTS_PER_LOBE + i; see [`factor_slots`]), whether each may be used, the c0 it was
     /// assembled with, its age and the sub-steps since it was last used (accepted sub-steps).
-    /// Shared with the saved copies of this film (see [`matrix_to_refactor`]).
+    /// Shared with the saved copies of this film (see `matrix_to_refactor`).
     lu: Vec<Arc<BandLu>>,
     lu_valid: Vec<bool>,
     lu_c0: Vec<f64>,
@@ -154,7 +154,7 @@ pub struct AirFilm {
 /// under macro-step control): it reuses the destination's buffers, copies the mesh and geometry
 /// only when the parameters differ (they are functions of the parameters), and shares the
 /// factorized Jacobians (reference counts; a film refactorizes into a matrix no copy holds,
-/// [`matrix_to_refactor`]). That leaves the three pressure levels, ~40 kB on the paper mesh.
+/// `matrix_to_refactor`). That leaves the three pressure levels, ~40 kB on the paper mesh.
 /// Until 2026-12-05 a copy took each matrix that changed since the destination got it, 360 kB
 /// each: 12.7 s of a 300 s run-up whose journals ride on their rings (C15/dH0/d50), where
 /// a lobe refactorizes every third sub-step.
