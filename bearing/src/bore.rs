@@ -75,12 +75,12 @@ impl Bore {
         }
     }
 
-    /// Ring-fixed start angle of block k.
     /// Bore angle theta (rad) at block-local angle `s_rad` of block `k`.
     pub fn theta_rad(&self, k: usize, s_rad: f64) -> f64 {
         self.block_start_rad(k) + s_rad + self.alpha_rad
     }
 
+    /// Ring-fixed start angle of block k.
     pub fn block_start_rad(&self, k: usize) -> f64 {
         if self.plain_bore {
             0.0

@@ -720,8 +720,10 @@ impl AirFilm {
     }
 }
 
-/// Spare matrices a film keeps at most: one per slot covers a master that holds one saved copy
-/// (its rollback state); more saved copies pin their own matrices and need no spares.
+/// Spare matrices a film keeps at most, per slot. A master that holds one saved copy (its
+/// rollback state) needs one per slot: the copy's matrix and the film's alternate. The second
+/// covers a master that also keeps a checkpoint; beyond that, spares still held by copies are
+/// dropped from the list (the copies keep them alive) and new ones allocated when needed.
 const MAX_SPARE_MATRICES_PER_SLOT: usize = 2;
 
 /// The matrix in `slot`, to be assembled and factorized anew. Where a saved copy of the film

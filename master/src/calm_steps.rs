@@ -30,9 +30,9 @@ use std::f64::consts::TAU;
 /// Least damping ratio of every mode for a calm macro step. The coupling's damping error at a
 /// 100 us macro step is ~0.004 (docs/convergence.md, "Calm macro steps"), a fifth of this. 0.05
 /// until 2026-12-05: 0.02 lets a stable design run calm to the end instead of closing its window
-/// where its least damped mode dips below 0.05 (C20/dH40/c1000/d500: 11.3 -> 7.2 s, every
-/// time-series column within 1e-7 of its range), and moved no onset by more than 1e-5 s
-/// ("Calm threshold 0.02" there).
+/// where its least damped mode dips below 0.05 (C20/dH40/c1000/d500: 10.1 -> 6.6 s, every
+/// time-series column within 1e-7 of its range), and moved the Section 3 presets' onsets by less
+/// than 1e-5 s ("Calm threshold 0.02" there).
 pub const CALM_DAMPING_RATIO: f64 = 0.02;
 
 /// Speed grid of the analysis [Hz], from this speed up to the profile's highest.
