@@ -68,8 +68,8 @@ pub struct RunupArgs {
     /// down to 1/64), or "off" for a fixed macro step [default: 0.3,3; 0.1,1 until 2026-12-04]
     #[arg(long)]
     pub step_control: Option<String>,
-    /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: 1e-3,100; the FMU's own
-    /// defaults are 1e-4,10]
+    /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: 3e-3,300; 1e-3,100 until
+    /// 2026-12-05; the FMU's own defaults are 1e-4,10]
     #[arg(long)]
     pub film_tolerance: Option<String>,
     /// Where the journal-ring contact is evaluated: "rotor" (implicitly inside the rotor's

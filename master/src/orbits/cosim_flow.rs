@@ -74,6 +74,24 @@ pub fn measures_list(m: &OrbitMeasures) -> Vec<(String, f64)> {
 /// were measured at it.
 pub const ORBIT_MACRO_STEP_US: f64 = 20.0;
 
+/// Loosest air-film tolerances of the period map [rtol, atol in Pa]: a run-up's looser default
+/// (3e-3 / 300 Pa since 2026-12-05) is tightened to this, a tighter one kept. The shooting's
+/// monodromy matrix comes from differences of perturbed flows, which the film's error must stay
+/// well below: at 3e-3 / 300 Pa path 2a's stable orbit at 500 Hz got a multiplier of 1.062 (the
+/// trivial one, split into 1.062 and 0.941), at 1e-3 / 100 Pa it is stable as in docs/orbits.md.
+pub const ORBIT_FILM_TOLERANCE: [f64; 2] = [1e-3, 100.0];
+
+/// `film_tolerance` no looser than [`ORBIT_FILM_TOLERANCE`] (None, the FMU's own 1e-4 / 10 Pa,
+/// is tighter and stays).
+pub fn orbit_film_tolerance(film_tolerance: Option<[f64; 2]>) -> Option<[f64; 2]> {
+    film_tolerance.map(|[rtol, atol]| {
+        [
+            rtol.min(ORBIT_FILM_TOLERANCE[0]),
+            atol.min(ORBIT_FILM_TOLERANCE[1]),
+        ]
+    })
+}
+
 /// A time within this fraction of a macro step of its target is on it: the summed time of many
 /// steps drifts from k H by 1e-13 s and more, and the rest used to be taken as a step of its
 /// own. A step of 2e-14 s is below the rotor's smallest step: contact whirls at 2000 Hz failed
@@ -127,6 +145,7 @@ impl RotorFilmFlow {
         s.disturbance_mn = 0.0;
         s.stop_time_s = 1e3;
         s.macro_step_us = ORBIT_MACRO_STEP_US;
+        s.film_tolerance = orbit_film_tolerance(s.film_tolerance);
         let text = s.system_toml(&fmu_dir.display().to_string());
         std::fs::write(system_file, &text)
             .map_err(|e| format!("{}: {e}", system_file.display()))?;
@@ -541,5 +560,25 @@ impl ParamFlow for RotorFilmFlow {
     }
     fn accepted(&mut self, x0: &[f64], period_s: f64) -> Result<(), String> {
         self.rebase(x0, period_s)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The period map never runs the film looser than ORBIT_FILM_TOLERANCE: the run-up default
+    /// is tightened, a tighter choice kept, each of rtol and atol on its own.
+    #[test]
+    fn orbit_film_tolerance_only_tightens() {
+        let run_up = crate::runup::DEFAULT_FILM_TOLERANCE;
+        assert!(run_up[0] > ORBIT_FILM_TOLERANCE[0] && run_up[1] > ORBIT_FILM_TOLERANCE[1]);
+        assert_eq!(
+            orbit_film_tolerance(Some(run_up)),
+            Some(ORBIT_FILM_TOLERANCE)
+        );
+        assert_eq!(orbit_film_tolerance(Some([1e-5, 1.0])), Some([1e-5, 1.0]));
+        assert_eq!(orbit_film_tolerance(Some([1e-5, 1e3])), Some([1e-5, 100.0]));
+        assert_eq!(orbit_film_tolerance(None), None);
     }
 }
