@@ -5,9 +5,12 @@
 //! iteration) and the 8 x 8 lateral mass matrix. The factorization is written out here: the GGL
 //! matrix has about 134 nonzeros of 3136 and the elimination skips zero multipliers, which makes
 //! it 2.7 times faster than faer's dense `lu_in_place` on that matrix (BENCHMARKS.md, "faer
-//! (session 7)"). The two triangular solves are faer's, 1.6 times faster than the former plain
-//! loops. The factors are plain data, serializable, so a restored `Rotor` reuses them
-//! bit-identically. Kernel tests: tests/linalg_kernels.rs.
+//! (session 7)"). The triangular solves run over the factors' nonzeros only, row by row (until
+//! 2026-12-05 faer's dense solves, 1.6 times faster than plain dense loops): the GGL factors keep
+//! most of the matrix's zeros, and a run-up solves with them at every Newton iteration. The
+//! factors are plain data, serialized as the dense factors and the pivots (the nonzero lists are
+//! rebuilt on reading), so a restored `Rotor` reuses them bit-identically. Kernel tests:
+//! tests/linalg_kernels.rs.
 
 use crate::params::RotorError;
 use serde::{Deserialize, Serialize};
@@ -15,12 +18,95 @@ use serde::{Deserialize, Serialize};
 pub type Vec3 = [f64; 3];
 pub type Mat3 = [[f64; 3]; 3];
 
-/// LU factors of a square matrix, P A = L U, stored row-major in one buffer.
+/// LU factors of a square matrix, P A = L U, stored row-major in one buffer, with the nonzeros
+/// of L and U listed row by row for the solves.
 #[derive(Clone, Debug, Default, Serialize, Deserialize)]
+#[serde(from = "DenseFactors", into = "DenseFactors")]
 pub struct Lu {
     n: usize,
     lu: Vec<f64>,
     piv: Vec<usize>,
+    rows: FactorRows,
+}
+
+/// The serialized form of [`Lu`]: what the factorization computed (the nonzero lists follow
+/// from it). The same fields as `Lu` had before the lists, so saved states still read.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+struct DenseFactors {
+    n: usize,
+    lu: Vec<f64>,
+    piv: Vec<usize>,
+}
+
+impl From<DenseFactors> for Lu {
+    fn from(d: DenseFactors) -> Lu {
+        let rows = FactorRows::new(d.n, &d.lu);
+        Lu {
+            n: d.n,
+            lu: d.lu,
+            piv: d.piv,
+            rows,
+        }
+    }
+}
+
+impl From<Lu> for DenseFactors {
+    fn from(lu: Lu) -> DenseFactors {
+        let Lu {
+            n,
+            lu,
+            piv,
+            rows: _,
+        } = lu;
+        DenseFactors { n, lu, piv }
+    }
+}
+
+/// The nonzeros of the unit lower factor L (below the diagonal) and of U (above it) by rows, in
+/// ascending columns, and U's diagonal. Row i's entries of L are `l_val[l_start[i]..l_start[i +
+/// 1]]` at columns `l_col[..]`; likewise for U.
+#[derive(Clone, Debug, Default)]
+struct FactorRows {
+    l_start: Vec<u32>,
+    l_col: Vec<u32>,
+    l_val: Vec<f64>,
+    u_start: Vec<u32>,
+    u_col: Vec<u32>,
+    u_val: Vec<f64>,
+    diag: Vec<f64>,
+}
+
+impl FactorRows {
+    fn new(n: usize, lu: &[f64]) -> FactorRows {
+        let mut r = FactorRows {
+            l_start: Vec::with_capacity(n + 1),
+            u_start: Vec::with_capacity(n + 1),
+            diag: Vec::with_capacity(n),
+            ..FactorRows::default()
+        };
+        r.l_start.push(0);
+        r.u_start.push(0);
+        for i in 0..n {
+            let row = &lu[i * n..(i + 1) * n];
+            for (j, &v) in row.iter().enumerate() {
+                // A NaN entry is kept (it must reach the solution, never be skipped).
+                if v == 0.0 || j == i {
+                    continue;
+                }
+                if j < i {
+                    r.l_col.push(j as u32);
+                    r.l_val.push(v);
+                } else {
+                    r.u_col.push(j as u32);
+                    r.u_val.push(v);
+                }
+            }
+            r.l_start.push(r.l_col.len() as u32);
+            r.u_start.push(r.u_col.len() as u32);
+            r.diag.push(row[i]);
+        }
+        r
+    }
 }
 
 impl Lu {
@@ -63,17 +149,27 @@ impl Lu {
                 }
             }
         }
-        Ok(Lu { n, lu: a, piv })
+        let rows = FactorRows::new(n, &a);
+        Ok(Lu {
+            n,
+            lu: a,
+            piv,
+            rows,
+        })
+    }
+
+    /// Nonzeros of L below and of U above the diagonal (the solves' work).
+    pub fn off_diagonal_nonzeros(&self) -> (usize, usize) {
+        (self.rows.l_val.len(), self.rows.u_val.len())
     }
 
     pub fn dim(&self) -> usize {
         self.n
     }
 
-    /// Solve A x = b in place: the row interchanges, then faer's unit-lower and upper
-    /// triangular solves on the (row-major) factors.
+    /// Solve A x = b in place: the row interchanges, then forward and back substitution over
+    /// the factors' nonzeros, row by row.
     pub fn solve(&self, b: &mut [f64]) {
-        use faer::linalg::triangular_solve as ts;
         let n = self.n;
         assert_eq!(b.len(), n, "Lu::solve: right-hand side of the wrong length");
         for k in 0..n {
@@ -82,10 +178,23 @@ impl Lu {
                 b.swap(k, p);
             }
         }
-        let lu = faer::MatRef::from_row_major_slice(&self.lu, n, n);
-        let mut x = faer::MatMut::from_column_major_slice_mut(b, n, 1);
-        ts::solve_unit_lower_triangular_in_place(lu, x.as_mut(), faer::Par::Seq);
-        ts::solve_upper_triangular_in_place(lu, x.as_mut(), faer::Par::Seq);
+        let r = &self.rows;
+        for i in 0..n {
+            let span = r.l_start[i] as usize..r.l_start[i + 1] as usize;
+            let mut s = b[i];
+            for (&j, &l) in r.l_col[span.clone()].iter().zip(&r.l_val[span]) {
+                s -= l * b[j as usize];
+            }
+            b[i] = s;
+        }
+        for i in (0..n).rev() {
+            let span = r.u_start[i] as usize..r.u_start[i + 1] as usize;
+            let mut s = b[i];
+            for (&j, &u) in r.u_col[span.clone()].iter().zip(&r.u_val[span]) {
+                s -= u * b[j as usize];
+            }
+            b[i] = s / r.diag[i];
+        }
     }
 }
 

@@ -113,6 +113,28 @@ fn lu_solves_sparse_saddle_point_matrices() {
     }
 }
 
+/// The solves run over the factors' nonzeros: a diagonally dominant tridiagonal matrix factors
+/// without interchanges into bidiagonal L and U (n - 1 entries off each diagonal), and the
+/// solve over those lists is the exact solution's backward-stable match.
+#[test]
+fn lu_solves_run_over_the_nonzeros_of_the_factors() {
+    let mut rng = Lcg(0x5eed_0006);
+    for n in [1, 2, 5, 56] {
+        let mut a = vec![0.0; n * n];
+        for i in 0..n {
+            a[i * n + i] = 4.0 + rng.next();
+            if i > 0 {
+                a[i * n + i - 1] = rng.next();
+                a[(i - 1) * n + i] = rng.next();
+            }
+        }
+        let lu = Lu::factor(n, a.clone(), "tridiagonal").unwrap();
+        assert_eq!(lu.off_diagonal_nonzeros(), (n - 1, n - 1), "n = {n}");
+        let b = rng.vec(n);
+        check_solve(n, &a, &b, &format!("tridiagonal n = {n}"));
+    }
+}
+
 /// Badly scaled rows (1e-8 ... 1e8), as in the iteration matrix where masses, beta h and
 /// constraint gradients meet.
 #[test]
