@@ -18,6 +18,7 @@ pub mod forces;
 pub mod friction;
 pub mod geometry;
 pub mod integrator;
+mod jacobian_assembly;
 pub mod linsolve;
 pub mod mesh;
 pub mod params;

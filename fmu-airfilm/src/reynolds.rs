@@ -213,7 +213,7 @@ fn residual_lanes(
 
 /// Analytic Jacobian dF/dP of block `k` (including c0 tau M) into `lu` (overwritten). Compiled
 /// for the widest vector unit the CPU has, like `residual`; the same operations in the same order
-/// on every CPU.
+/// on every CPU. Four elements at a time, one per vector lane (`jacobian_assembly`).
 pub fn jacobian(mesh: &Mesh, gap: &GapField, k: usize, co: Coeffs, p: &[f64], lu: &mut BandLu) {
     struct Op<'a> {
         mesh: &'a Mesh,
@@ -227,7 +227,9 @@ pub fn jacobian(mesh: &Mesh, gap: &GapField, k: usize, co: Coeffs, p: &[f64], lu
         type Output = ();
         #[inline(always)]
         fn with_simd<S: pulp::Simd>(self, _: S) {
-            jacobian_lanes(self.mesh, self.gap, self.k, self.co, self.p, self.lu)
+            crate::jacobian_assembly::jacobian_element_lanes(
+                self.mesh, self.gap, self.k, self.co, self.p, self.lu,
+            )
         }
     }
     pulp::Arch::new().dispatch(Op {
@@ -238,61 +240,6 @@ pub fn jacobian(mesh: &Mesh, gap: &GapField, k: usize, co: Coeffs, p: &[f64], lu
         p,
         lu,
     })
-}
-
-#[inline(always)]
-fn jacobian_lanes(mesh: &Mesh, gap: &GapField, k: usize, co: Coeffs, p: &[f64], lu: &mut BandLu) {
-    lu.zero();
-    let b = &mesh.basis;
-    let sx = 2.0 / mesh.dphi_e;
-    let sy = 2.0 / mesh.dzeta_e;
-    let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
-    let nq = 3 * mesh.ne_phi;
-    let (lam, tau, c0) = (co.lambda, co.tau_s, co.c0_per_s);
-    for (e, nodes) in mesh.elem.iter().enumerate() {
-        let col = mesh.elem_col[e] as usize;
-        let pe = gather(nodes, p);
-        let mut ke = [[0.0; 9]; 9];
-        for q in 0..9 {
-            let gi = k * nq + 3 * col + q / 3;
-            let (h, hphi, ht) = (gap.h[gi], gap.h_phi[gi], gap.h_t[gi]);
-            let (n, nxr, nyr) = (&b.n[q], &b.dx[q], &b.dy[q]);
-            let mut nx = [0.0; 9];
-            let mut ny = [0.0; 9];
-            let (mut pq, mut px, mut py) = (0.0, 0.0, 0.0);
-            for a in 0..9 {
-                nx[a] = nxr[a] * sx;
-                ny[a] = nyr[a] * sy;
-                pq += n[a] * pe[a];
-                px += nx[a] * pe[a];
-                py += ny[a] * pe[a];
-            }
-            let w = b.w[q] * jac;
-            let h3 = h * h * h;
-            let a3 = w * pq * h3;
-            let lamh = w * lam * h;
-            // Coefficient of N_b in row a, and of the gradients of N_b.
-            let cb_flux = w * h3;
-            let cb_src = w * (lam * hphi + tau * (c0 * h + ht));
-            for a in 0..9 {
-                let ca = cb_flux * (px * nx[a] + py * ny[a]) + cb_src * n[a];
-                let gx = a3 * nx[a] + lamh * n[a];
-                let gy = a3 * ny[a];
-                let row = &mut ke[a];
-                for bb in 0..9 {
-                    row[bb] += ca * n[bb] + gx * nx[bb] + gy * ny[bb];
-                }
-            }
-        }
-        for a in 0..9 {
-            lu.add_row(nodes[a] as usize, &nodes[..], &ke[a]);
-        }
-    }
-    for (i, d) in mesh.dirichlet.iter().enumerate() {
-        if *d {
-            lu.set_identity_row(i);
-        }
-    }
 }
 
 /// The residual written one Gauss point at a time, as it was before the lane layout: the
