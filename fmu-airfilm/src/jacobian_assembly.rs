@@ -17,8 +17,8 @@ use crate::mesh::gather;
 use crate::mesh::Mesh;
 use crate::reynolds::Coeffs;
 
-/// Elements assembled side by side: one per f64 lane of an AVX2 vector.
-const ELEM_LANES: usize = 4;
+/// Elements assembled side by side: one per f64 lane of an AVX2 vector (the residual's too).
+pub(crate) const ELEM_LANES: usize = 4;
 
 /// `reynolds::jacobian`'s body, inlined into its runtime dispatch.
 #[inline(always)]

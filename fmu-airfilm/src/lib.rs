@@ -22,6 +22,7 @@ mod jacobian_assembly;
 pub mod linsolve;
 pub mod mesh;
 pub mod params;
+mod residual_assembly;
 pub mod reynolds;
 pub mod shell;
 pub mod steady;

@@ -16,7 +16,9 @@
 
 use crate::geometry::GapField;
 use crate::linsolve::BandLu;
-use crate::mesh::{gather, Mesh};
+#[cfg(test)]
+use crate::mesh::gather;
+use crate::mesh::Mesh;
 
 /// Scalar coefficients of one evaluation.
 #[derive(Clone, Copy, Debug)]
@@ -29,59 +31,13 @@ pub struct Coeffs {
     pub c0_per_s: f64,
 }
 
-/// Lanes of the residual's per-element arrays: the 9 Gauss points (or 9 nodes) padded to 12, three
-/// 4-wide (AVX2) or six 2-wide (SSE2) vectors. Padding lanes hold zeros and are never read back.
-const LANES: usize = 12;
-
-/// The reference tables laid out for the residual's vector loops, padded to [`LANES`] with zeros:
-/// node-major (`*_at_q[a][q]`) to interpolate to the Gauss points, Gauss-point-major
-/// (`*_of_a[q][a]`) to accumulate the test functions. Built per call from `mesh.basis` (648 values:
-/// ~1 % of a call) so that the mesh and the film's serialized state stay as they are.
-struct ResidualTables {
-    n_at_q: [[f64; LANES]; 9],
-    dx_at_q: [[f64; LANES]; 9],
-    dy_at_q: [[f64; LANES]; 9],
-    n_of_a: [[f64; LANES]; 9],
-    dx_of_a: [[f64; LANES]; 9],
-    dy_of_a: [[f64; LANES]; 9],
-    w: [f64; LANES],
-}
-
-impl ResidualTables {
-    #[inline(always)]
-    fn new(mesh: &Mesh) -> Self {
-        let b = &mesh.basis;
-        let z = [[0.0; LANES]; 9];
-        let mut t = ResidualTables {
-            n_at_q: z,
-            dx_at_q: z,
-            dy_at_q: z,
-            n_of_a: z,
-            dx_of_a: z,
-            dy_of_a: z,
-            w: [0.0; LANES],
-        };
-        for q in 0..9 {
-            t.w[q] = b.w[q];
-            for a in 0..9 {
-                (t.n_at_q[a][q], t.dx_at_q[a][q], t.dy_at_q[a][q]) =
-                    (b.n[q][a], b.dx[q][a], b.dy[q][a]);
-                (t.n_of_a[q][a], t.dx_of_a[q][a], t.dy_of_a[q][a]) =
-                    (b.n[q][a], b.dx[q][a], b.dy[q][a]);
-            }
-        }
-        t
-    }
-}
-
 /// Residual of block `k`. `p`, `hist`, `out` are block slices; `source` (if any) holds S at the
 /// Gauss points, indexed `elem * 9 + q`. Dirichlet rows get 0 (their values are kept fixed).
 ///
-/// Runs the same code compiled for the widest vector unit the CPU has (pulp's runtime dispatch).
-/// The loops run over the Gauss points and nodes as lanes, and every sum keeps the order of the
-/// scalar formulation (one Gauss point after the other, nodes 0..8): Rust neither reorders nor
-/// fuses floating-point operations, so the result is bit-identical on every CPU and to the scalar
-/// reference in the tests.
+/// Runs the same code compiled for the widest vector unit the CPU has (pulp's runtime dispatch),
+/// four elements at a time and sum-factorized (`residual_assembly`). Rust neither reorders nor
+/// fuses floating-point operations, so the result is bit-identical on every CPU; it equals the
+/// scalar formulation in the tests to rounding (the sums run in another order).
 pub fn residual(
     mesh: &Mesh,
     gap: &GapField,
@@ -116,7 +72,7 @@ pub fn residual(
                 source,
                 out,
             } = self;
-            residual_lanes(mesh, gap, k, co, p, hist, source, out)
+            crate::residual_assembly::residual_element_lanes(mesh, gap, k, co, p, hist, source, out)
         }
     }
     pulp::Arch::new().dispatch(Op {
@@ -129,86 +85,6 @@ pub fn residual(
         source,
         out,
     })
-}
-
-#[inline(always)]
-fn residual_lanes(
-    mesh: &Mesh,
-    gap: &GapField,
-    k: usize,
-    co: Coeffs,
-    p: &[f64],
-    hist: &[f64],
-    source: Option<&[f64]>,
-    out: &mut [f64],
-) {
-    out.iter_mut().for_each(|v| *v = 0.0);
-    let t = ResidualTables::new(mesh);
-    let sx = 2.0 / mesh.dphi_e;
-    let sy = 2.0 / mesh.dzeta_e;
-    let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
-    let nq = 3 * mesh.ne_phi;
-    let (lam, tau, c0) = (co.lambda, co.tau_s, co.c0_per_s);
-    for (e, nodes) in mesh.elem.iter().enumerate() {
-        let col = mesh.elem_col[e] as usize;
-        let pe = gather(nodes, p);
-        let he = gather(nodes, hist);
-        let mut pd = [0.0; 9];
-        for a in 0..9 {
-            pd[a] = c0 * pe[a] - he[a];
-        }
-        // P, dP/dxi, dP/deta and dP/dt at the Gauss points.
-        let (mut pq, mut px, mut py, mut pt) =
-            ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
-        for a in 0..9 {
-            let (v, d) = (pe[a], pd[a]);
-            for q in 0..LANES {
-                pq[q] += t.n_at_q[a][q] * v;
-                px[q] += t.dx_at_q[a][q] * v;
-                py[q] += t.dy_at_q[a][q] * v;
-                pt[q] += t.n_at_q[a][q] * d;
-            }
-        }
-        // The gap varies along phi only: Gauss column q / 3 of the element's column.
-        let g0 = k * nq + 3 * col;
-        let (mut h, mut hphi, mut ht) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
-        for q in 0..9 {
-            (h[q], hphi[q], ht[q]) = (
-                gap.h[g0 + q / 3],
-                gap.h_phi[g0 + q / 3],
-                gap.h_t[g0 + q / 3],
-            );
-        }
-        let (mut fx, mut fy, mut src) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
-        for q in 0..LANES {
-            let (pxq, pyq) = (px[q] * sx, py[q] * sy);
-            let w = t.w[q] * jac;
-            let a3 = pq[q] * h[q] * h[q] * h[q];
-            fx[q] = w * a3 * pxq * sx;
-            fy[q] = w * a3 * pyq * sy;
-            src[q] = lam * (pxq * h[q] + pq[q] * hphi[q]) + tau * (h[q] * pt[q] + pq[q] * ht[q]);
-        }
-        if let Some(s) = source {
-            for q in 0..9 {
-                src[q] -= s[e * 9 + q];
-            }
-        }
-        let mut re = [0.0; LANES];
-        for q in 0..9 {
-            let (fxq, fyq, fsq) = (fx[q], fy[q], t.w[q] * jac * src[q]);
-            for a in 0..LANES {
-                re[a] += fxq * t.dx_of_a[q][a] + fyq * t.dy_of_a[q][a] + fsq * t.n_of_a[q][a];
-            }
-        }
-        for a in 0..9 {
-            out[nodes[a] as usize] += re[a];
-        }
-    }
-    for (i, d) in mesh.dirichlet.iter().enumerate() {
-        if *d {
-            out[i] = 0.0;
-        }
-    }
 }
 
 /// Analytic Jacobian dF/dP of block `k` (including c0 tau M) into `lu` (overwritten). Compiled
@@ -242,8 +118,8 @@ pub fn jacobian(mesh: &Mesh, gap: &GapField, k: usize, co: Coeffs, p: &[f64], lu
     })
 }
 
-/// The residual written one Gauss point at a time, as it was before the lane layout: the
-/// reference `residual` must equal bit for bit (tests only).
+/// The residual written one Gauss point at a time over the full 9 x 9 tables, as it was before
+/// the lane layouts: the reference `residual` must equal to rounding (tests only).
 #[cfg(test)]
 pub(crate) fn residual_scalar_reference(
     mesh: &Mesh,
@@ -316,17 +192,21 @@ mod tests {
     use crate::test_rng::uniform;
     use crate::JournalState;
 
-    /// The lane layout is a pure re-arrangement: on random pressures, histories, sources and
-    /// journal states (plain and lobed bores, every block), `residual` equals the scalar
-    /// formulation bit for bit, whatever vector unit the dispatch chose.
+    /// The sum-factorized element lanes compute what the scalar formulation does: on random
+    /// pressures, histories, sources and journal states (plain and lobed bores, every block, a
+    /// mesh whose element count leaves a partly used last group of lanes), `residual` equals it to
+    /// 1e-13 of the largest element term, the scale of rounding in either sum.
     #[test]
-    fn residual_equals_the_scalar_formulation_bit_for_bit() {
+    fn residual_equals_the_scalar_formulation() {
         let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        for (case, plain) in [(0, false), (1, false), (2, true)] {
+        for (case, plain, n_elem_phi) in
+            [(0, false, 20), (1, false, 20), (2, true, 20), (3, false, 7)]
+        {
             let mut prm = BearingParams::paper();
             if plain {
                 prm.bore.dh_m = 0.0;
             }
+            prm.n_elem_phi = n_elem_phi;
             let mesh = Mesh::new(&prm);
             let geom = Geometry::new(&prm, &mesh);
             let c = prm.bore.c_m;
@@ -359,16 +239,19 @@ mod tests {
                     let (mut new, mut old) = (vec![f64::NAN; npb], vec![f64::NAN; npb]);
                     residual(&mesh, &gap, k, co, &p, &hist, source, &mut new);
                     residual_scalar_reference(&mesh, &gap, k, co, &p, &hist, source, &mut old);
+                    // The terms' scale: the residual of the absolute values is not at hand, but
+                    // random fields are far from equilibrium, so the largest |F_a| is of it.
+                    let scale = old.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                    assert!(scale > 0.0);
                     for i in 0..npb {
-                        assert_eq!(
-                            new[i].to_bits(),
-                            old[i].to_bits(),
-                            "case {case}, block {k}, node {i}: {} vs {}",
+                        assert!(
+                            (new[i] - old[i]).abs() <= 1e-13 * scale,
+                            "case {case}, block {k}, node {i}: {} vs {} (scale {scale:e})",
                             new[i],
                             old[i]
                         );
+                        assert_eq!(new[i] == 0.0, mesh.dirichlet[i], "node {i}");
                     }
-                    assert!(new.iter().any(|v| *v != 0.0));
                 }
             }
         }
