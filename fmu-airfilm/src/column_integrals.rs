@@ -80,6 +80,21 @@ impl ColumnIntegrals {
         self.w_one.len()
     }
 
+    /// The entries of phi point `g`: (block-local node, weight in Int P, weight in Int dP/dxi).
+    pub fn entries(&self, g: usize) -> impl Iterator<Item = (usize, f64, f64)> + '_ {
+        let r = self.start[g] as usize..self.start[g + 1] as usize;
+        self.node[r.clone()]
+            .iter()
+            .zip(&self.w_p[r.clone()])
+            .zip(&self.w_dp[r])
+            .map(|((&n, &wp), &wd)| (n as usize, wp, wd))
+    }
+
+    /// Nodes per block the tables refer to (the largest node + 1).
+    pub fn nodes_per_block(&self) -> usize {
+        self.node.iter().max().map_or(0, |&n| n as usize + 1)
+    }
+
     /// Int dP/dxi over the column of phi point `g`, for the block's nodal values `pb`.
     #[inline]
     pub fn dp(&self, g: usize, pb: &[f64]) -> f64 {

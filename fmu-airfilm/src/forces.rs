@@ -6,6 +6,7 @@
 
 use crate::geometry::{gap_m, GapField, Geometry};
 use crate::mesh::{at_gauss_points, shape1, Mesh, GAUSS3_W, GAUSS3_X};
+use crate::node_functionals::dot;
 use crate::params::BearingParams;
 use crate::JournalState;
 use serde::{Deserialize, Serialize};
@@ -54,9 +55,26 @@ impl FilmOutputs {
     }
 }
 
-/// Pressure part of the force (N) from the scaled nodal pressures `p` of all blocks.
-/// Per phi-Gauss point, Int (P - 1) over its column (`column_integrals`) times cos and sin theta.
+/// Pressure part of the force (N) from the scaled nodal pressures `p` of all blocks: per node a
+/// fixed weight (`node_functionals`), Int (P - 1) cos theta = p_cos . P - Int cos theta.
 pub fn pressure_force_n(prm: &BearingParams, mesh: &Mesh, geom: &Geometry, p: &[f64]) -> [f64; 2] {
+    debug_assert_eq!(p.len(), mesh.n_blocks * mesh.npb);
+    let f = &geom.nodal;
+    let fx = dot(&f.p_cos, p) - f.one_cos;
+    let fy = dot(&f.p_sin, p) - f.one_sin;
+    let s = -2.0 * prm.p_a_pa * prm.bore.r_m * prm.bore.r_m;
+    [s * fx, s * fy]
+}
+
+/// [`pressure_force_n`] through the column functionals point by point, as it was until
+/// 2026-12-05 (tests compare the two).
+#[cfg(test)]
+pub(crate) fn pressure_force_by_columns_n(
+    prm: &BearingParams,
+    mesh: &Mesh,
+    geom: &Geometry,
+    p: &[f64],
+) -> [f64; 2] {
     let cols = &geom.columns;
     let (mut fx, mut fy) = (0.0, 0.0);
     for k in 0..mesh.n_blocks {

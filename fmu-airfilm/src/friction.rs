@@ -24,6 +24,7 @@
 
 use crate::geometry::Geometry;
 use crate::mesh::Mesh;
+use crate::node_functionals::dot;
 use crate::params::BearingParams;
 use crate::JournalState;
 
@@ -96,26 +97,25 @@ pub fn friction_torque(
     let u = j.omega_rad_s * r;
     let (ex, ey) = (j.dx_m / c, j.dy_m / c);
     let cols = &geom.columns;
-    // The gap h / C at the phi-Gauss points (shared by every element of a column and by the three
-    // zeta points): computed, and inverted, once per call.
-    let h_rel: Vec<f64> = (0..mesh.n_blocks * geom.nq)
-        .map(|gi| {
-            (1.0 - ex * geom.cos_q[gi] - ey * geom.sin_q[gi] + geom.step_q[gi])
-                .max(geom.h_floor_rel)
-        })
-        .collect();
-    let inv_h: Vec<f64> = h_rel.iter().map(|h| 1.0 / h).collect();
     // Int dphi dzeta of 1 / H and of H dP/dphi over the lobes: H is a function of phi alone, so
     // per phi-Gauss point the column's integral of 1 and of dP/dxi (dP/dphi = 2 / dphi_e of it).
-    let (mut couette, mut poiseuille) = (0.0, 0.0);
+    // The gap h / C at the phi-Gauss points, floored like the Reynolds coefficients'.
+    let (mut couette, mut floored) = (0.0, false);
     for k in 0..mesh.n_blocks {
-        let pb = &p[k * mesh.npb..(k + 1) * mesh.npb];
-        cols.each_dp(pb, |g, dp_int| {
+        for g in 0..geom.nq {
             let gi = k * geom.nq + g;
-            couette += cols.w_one[g] * inv_h[gi];
-            poiseuille += h_rel[gi] * dp_int;
-        });
+            let h = 1.0 - ex * geom.cos_q[gi] - ey * geom.sin_q[gi] + geom.step_q[gi];
+            floored |= h < geom.h_floor_rel;
+            couette += cols.w_one[g] / h.max(geom.h_floor_rel);
+        }
     }
+    let poiseuille = if floored {
+        poiseuille_by_columns(mesh, geom, ex, ey, p)
+    } else {
+        // H linear in the eccentricity: three fixed weights per node (`node_functionals`).
+        let f = &geom.nodal;
+        dot(&f.dp_step, p) - ex * dot(&f.dp_cos, p) - ey * dot(&f.dp_sin, p)
+    };
     // tau = eta U / h + (h / 2) dp / (r dphi), h = C H, dp = p_a dP.
     let couette = couette * eta * u / c;
     let poiseuille = poiseuille * c * prm.p_a_pa * (2.0 / mesh.dphi_e) / (2.0 * r);
@@ -133,6 +133,27 @@ pub fn friction_torque(
         // Full width b: T = r^3 (b / r) Int tau dphi.
         pockets_nm: r * r * bore.b_m * pockets,
     }
+}
+
+/// Int H dP/dxi over the lobes with the floored gap, point by point through the column
+/// functionals (where some point is at the gap floor, and in the tests).
+pub(crate) fn poiseuille_by_columns(
+    mesh: &Mesh,
+    geom: &Geometry,
+    ex: f64,
+    ey: f64,
+    p: &[f64],
+) -> f64 {
+    let mut poiseuille = 0.0;
+    for k in 0..mesh.n_blocks {
+        let pb = &p[k * mesh.npb..(k + 1) * mesh.npb];
+        geom.columns.each_dp(pb, |g, dp_int| {
+            let gi = k * geom.nq + g;
+            let h = 1.0 - ex * geom.cos_q[gi] - ey * geom.sin_q[gi] + geom.step_q[gi];
+            poiseuille += h.max(geom.h_floor_rel) * dp_int;
+        });
+    }
+    poiseuille
 }
 
 #[cfg(test)]

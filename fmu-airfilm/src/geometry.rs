@@ -10,12 +10,14 @@
 
 use crate::column_integrals::ColumnIntegrals;
 use crate::mesh::Mesh;
+use crate::node_functionals::NodeFunctionals;
 use crate::params::BearingParams;
 use crate::JournalState;
 use serde::{Deserialize, Serialize};
 
 /// Angle-only data at the phi-Gauss points of every block (fixed for a given mesh).
 #[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(from = "GeometryData", into = "GeometryData")]
 pub struct Geometry {
     /// Gauss points along phi per block: 3 per element column.
     pub nq: usize,
@@ -31,6 +33,96 @@ pub struct Geometry {
     /// The friction's pocket quadrature (`friction`): cos theta, sin theta and the weight of each
     /// point, so a call needs no trigonometry. Empty for a plain bore.
     pub pockets: Vec<[f64; 3]>,
+    /// The force and the friction's pressure part as weights per node (`node_functionals`),
+    /// derived from the tables above (not serialized: rebuilt when a state is read).
+    pub nodal: NodeFunctionals,
+}
+
+/// The serialized form of [`Geometry`]: its fields before the node functionals, so saved states
+/// read as before.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+struct GeometryData {
+    nq: usize,
+    cos_q: Vec<f64>,
+    sin_q: Vec<f64>,
+    step_q: Vec<f64>,
+    dstep_rel: f64,
+    h_floor_rel: f64,
+    columns: ColumnIntegrals,
+    pockets: Vec<[f64; 3]>,
+}
+
+impl From<GeometryData> for Geometry {
+    fn from(d: GeometryData) -> Geometry {
+        let GeometryData {
+            nq,
+            cos_q,
+            sin_q,
+            step_q,
+            dstep_rel,
+            h_floor_rel,
+            columns,
+            pockets,
+        } = d;
+        // A state whose tables do not agree gets no node functionals; `AirFilm::check_layout`
+        // then refuses it (never an index out of bounds here).
+        let n = cos_q.len();
+        let consistent = nq > 0
+            && nq == columns.nq()
+            && n % nq == 0
+            && sin_q.len() == n
+            && step_q.len() == n
+            && columns.fits(nq, columns.nodes_per_block());
+        let nodal = if consistent {
+            NodeFunctionals::new(
+                &columns,
+                n / nq,
+                columns.nodes_per_block(),
+                &cos_q,
+                &sin_q,
+                &step_q,
+            )
+        } else {
+            NodeFunctionals::default()
+        };
+        Geometry {
+            nq,
+            cos_q,
+            sin_q,
+            step_q,
+            dstep_rel,
+            h_floor_rel,
+            columns,
+            pockets,
+            nodal,
+        }
+    }
+}
+
+impl From<Geometry> for GeometryData {
+    fn from(g: Geometry) -> GeometryData {
+        let Geometry {
+            nq,
+            cos_q,
+            sin_q,
+            step_q,
+            dstep_rel,
+            h_floor_rel,
+            columns,
+            pockets,
+            nodal: _,
+        } = g;
+        GeometryData {
+            nq,
+            cos_q,
+            sin_q,
+            step_q,
+            dstep_rel,
+            h_floor_rel,
+            columns,
+            pockets,
+        }
+    }
 }
 
 /// Dimensionless gap H = h/C, dH/dphi and the time derivative dH/dt (1/s) at the phi-Gauss points.
@@ -60,6 +152,9 @@ impl Geometry {
                 }
             }
         }
+        let columns = ColumnIntegrals::new(mesh);
+        let nodal =
+            NodeFunctionals::new(&columns, mesh.n_blocks, mesh.npb, &cos_q, &sin_q, &step_q);
         Geometry {
             nq,
             cos_q,
@@ -67,8 +162,9 @@ impl Geometry {
             step_q,
             dstep_rel: -step_rel / span,
             h_floor_rel: (0.5 * p.contact.h_con_rel).max(1e-3),
-            columns: ColumnIntegrals::new(mesh),
+            columns,
             pockets: crate::friction::pocket_points(&p.bore),
+            nodal,
         }
     }
 

@@ -269,6 +269,7 @@ impl AirFilm {
                 .iter()
                 .any(|v| v.len() != n_q)
             || !g.columns.fits(nq, self.mesh.npb)
+            || !g.nodal.fits(self.mesh.n_blocks * self.mesh.npb)
         {
             return Err(
                 "the geometry's tables do not fit the mesh (a state saved by another \

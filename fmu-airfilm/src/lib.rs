@@ -21,6 +21,7 @@ pub mod integrator;
 mod jacobian_assembly;
 pub mod linsolve;
 pub mod mesh;
+pub mod node_functionals;
 pub mod params;
 mod residual_assembly;
 pub mod reynolds;
