@@ -129,12 +129,14 @@ pub struct GglBdf {
     lu_beta_h: f64,
     /// Newton rate estimate rate / (1 - rate) (DASSL's S).
     newton_s: f64,
-    /// The factorization before the current one (same force Jacobians), its beta h and its
-    /// Newton rate estimate. A rejected step refactorizes for its shorter step, and the next
-    /// macro step goes back to the former size: in path 1's large whirl nearly every macro step
-    /// did so, 47 011 factorizations in 3 s. Keeping the former one makes the way back free.
+    /// The factorizations before the current one (same force Jacobians), most recent first, at
+    /// most [`SPARE_FACTORIZATIONS`], each with its beta h and Newton rate estimate. A rejected
+    /// step refactorizes for its shorter step, and the next macro step goes back to the former
+    /// size: in path 1's large whirl nearly every macro step did so, 47 011 factorizations in
+    /// 3 s. Where the master refines its macro steps (journals riding on their rings) the steps
+    /// follow the refinement levels, halves of each other, and come back to them.
     #[serde(default)]
-    lu_prev: Option<(Lu, f64, f64)>,
+    lu_prev: Vec<(Lu, f64, f64)>,
     u_last: Vec<f64>,
     n_inputs: usize,
     drift_pos: f64,
@@ -153,6 +155,8 @@ fn bdf2_error_factor(w: f64) -> f64 {
 }
 
 const NEWTON_MAX_IT: usize = 4;
+/// Factorizations kept besides the current one (see `GglBdf::lu_prev`).
+const SPARE_FACTORIZATIONS: usize = 3;
 
 /// Writes the input vector u(t).
 pub type InputFn<'a> = dyn FnMut(f64, &mut [f64]) -> Result<(), RotorError> + 'a;
@@ -201,7 +205,7 @@ impl GglBdf {
             lu: None,
             lu_beta_h: 0.0,
             newton_s: 100.0,
-            lu_prev: None,
+            lu_prev: Vec::new(),
             n_inputs: u0.len(),
             u_last: u0,
             drift_pos: 0.0,
@@ -302,36 +306,39 @@ impl GglBdf {
             m_flat: m_blocks.concat(),
         });
         self.lu = None;
-        self.lu_prev = None;
+        self.lu_prev.clear();
         stats.jacobian_evaluations += 1;
     }
 
-    /// An iteration matrix for `beta_h`: the current one if within 25 %, else the previous
-    /// factorization if that is (the two swap), else a new factorization.
+    /// An iteration matrix for `beta_h`: the current one if within 25 %, else the most recent
+    /// earlier factorization that is (it becomes the current one), else a new factorization.
     fn ensure_matrix(&mut self, beta_h: f64, stats: &mut StepStats) -> Result<(), RotorError> {
         let fits = |b: f64| (beta_h / b - 1.0).abs() <= 0.25;
         if self.lu.is_some() && fits(self.lu_beta_h) {
             return Ok(());
         }
-        if let Some((_, b, _)) = &self.lu_prev {
-            if fits(*b) {
-                let (lu, b, s) = self.lu_prev.take().expect("checked");
-                if let Some(cur) = self.lu.take() {
-                    self.lu_prev = Some((cur, self.lu_beta_h, self.newton_s));
-                }
-                self.lu = Some(lu);
-                self.lu_beta_h = b;
-                self.newton_s = s;
-                return Ok(());
-            }
+        if let Some(i) = self.lu_prev.iter().position(|(_, b, _)| fits(*b)) {
+            let (lu, b, s) = self.lu_prev.remove(i);
+            self.retire_current();
+            self.lu = Some(lu);
+            self.lu_beta_h = b;
+            self.newton_s = s;
+            return Ok(());
         }
         self.factor(beta_h, stats)
     }
 
-    fn factor(&mut self, beta_h: f64, stats: &mut StepStats) -> Result<(), RotorError> {
+    /// The current factorization to the front of the spares (the oldest spare beyond
+    /// [`SPARE_FACTORIZATIONS`] is dropped).
+    fn retire_current(&mut self) {
         if let Some(cur) = self.lu.take() {
-            self.lu_prev = Some((cur, self.lu_beta_h, self.newton_s));
+            self.lu_prev.insert(0, (cur, self.lu_beta_h, self.newton_s));
+            self.lu_prev.truncate(SPARE_FACTORIZATIONS);
         }
+    }
+
+    fn factor(&mut self, beta_h: f64, stats: &mut StepStats) -> Result<(), RotorError> {
+        self.retire_current();
         let nq = self.sys.n_coords();
         let nc = self.sys.n_constraints();
         let j = self.jac.as_ref().expect("jacobian present");

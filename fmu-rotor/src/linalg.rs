@@ -78,26 +78,32 @@ struct FactorRows {
 
 impl FactorRows {
     fn new(n: usize, lu: &[f64]) -> FactorRows {
+        // Sized for a dense factor up front: a run-up refactorizes up to every step where a
+        // journal rides on its ring, and growing the lists entry by entry was costly there.
+        let half = n * n.saturating_sub(1) / 2;
         let mut r = FactorRows {
             l_start: Vec::with_capacity(n + 1),
+            l_col: Vec::with_capacity(half),
+            l_val: Vec::with_capacity(half),
             u_start: Vec::with_capacity(n + 1),
+            u_col: Vec::with_capacity(half),
+            u_val: Vec::with_capacity(half),
             diag: Vec::with_capacity(n),
-            ..FactorRows::default()
         };
         r.l_start.push(0);
         r.u_start.push(0);
         for i in 0..n {
             let row = &lu[i * n..(i + 1) * n];
-            for (j, &v) in row.iter().enumerate() {
-                // A NaN entry is kept (it must reach the solution, never be skipped).
-                if v == 0.0 || j == i {
-                    continue;
-                }
-                if j < i {
+            // A NaN entry is kept (it must reach the solution, never be skipped).
+            for (j, &v) in row[..i].iter().enumerate() {
+                if v != 0.0 {
                     r.l_col.push(j as u32);
                     r.l_val.push(v);
-                } else {
-                    r.u_col.push(j as u32);
+                }
+            }
+            for (j, &v) in row[i + 1..].iter().enumerate() {
+                if v != 0.0 {
+                    r.u_col.push((i + 1 + j) as u32);
                     r.u_val.push(v);
                 }
             }
