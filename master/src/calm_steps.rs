@@ -136,6 +136,9 @@ fn least_damping_ratio(r: &crate::stability::SpeedResult) -> f64 {
         .min(1.0)
 }
 
+/// A grid speed [Hz] and its least damping ratio (None: the analysis failed there).
+type SpeedDamping = (f64, Option<f64>);
+
 /// Speeds analysed at a time (`plan`): two per thread on two cores.
 const SPEEDS_PER_BATCH: usize = 4;
 
@@ -148,7 +151,7 @@ fn batched_calm_window(
     mut analyse: impl FnMut(&[f64]) -> Vec<Option<f64>>,
     speed_hz: impl Fn(f64) -> f64,
     stop_s: f64,
-) -> (Vec<(f64, Option<f64>)>, Vec<(f64, f64)>) {
+) -> (Vec<SpeedDamping>, Vec<(f64, f64)>) {
     let mut least_damping: Vec<(f64, Option<f64>)> = Vec::with_capacity(speeds.len());
     for (c, chunk) in speeds.chunks(SPEEDS_PER_BATCH).enumerate() {
         least_damping.extend(chunk.iter().copied().zip(analyse(chunk)));
@@ -289,7 +292,8 @@ mod tests {
     #[test]
     fn batches_from_the_lowest_speed_give_the_window_of_all_speeds() {
         let speeds: Vec<f64> = (1..=40).map(|i| 50.0 * i as f64).collect();
-        let dampings: Vec<(&str, Box<dyn Fn(f64) -> Option<f64>>)> = vec![
+        type Damping = Box<dyn Fn(f64) -> Option<f64>>;
+        let dampings: Vec<(&str, Damping)> = vec![
             ("path-1-like", Box::new(|f| Some(0.2 - f / 2500.0))),
             ("late", Box::new(|f| Some(0.2 - f / 9000.0))),
             ("stable", Box::new(|_| Some(0.1))),
