@@ -72,6 +72,21 @@ impl MultibodySystem {
 
     /// Mass matrix blocks (one row-major 6x6 per body) and f_e. `u` are the input forces.
     pub fn eval(&self, x: &[f64], v: &[f64], u: &[f64], m_blocks: &mut [[f64; 36]], f: &mut [f64]) {
+        self.eval_with(x, v, u, m_blocks, f, true)
+    }
+
+    /// [`Self::eval`], with the forces that depend on the positions alone (the ring contact)
+    /// left out unless `position_only_forces`: a difference quotient in a velocity does not need
+    /// them, and the contact is most of an evaluation while a journal rides on its ring.
+    pub fn eval_with(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        u: &[f64],
+        m_blocks: &mut [[f64; 36]],
+        f: &mut [f64],
+        position_only_forces: bool,
+    ) {
         let kins = self.kinematics(x, v);
         for (b, body) in self.bodies.iter().enumerate() {
             let mut m6 = [0.0; 36];
@@ -132,7 +147,7 @@ impl MultibodySystem {
                     s_a_m,
                     body_b,
                     ref bearing,
-                } => {
+                } if position_only_forces => {
                     let ka = &kins[body_a];
                     let kb = &kins[body_b];
                     let pa = ka.point_pos(&s_a_m);
@@ -143,6 +158,7 @@ impl MultibodySystem {
                         f[6 * body_b + 1] -= fc[1];
                     }
                 }
+                ForceElement::RingContact { .. } => {}
             }
         }
     }

@@ -112,3 +112,55 @@ fn a_bad_contact_geometry_is_reported_under_the_rotor_parameter_name() {
     let e = Rotor::new(p).unwrap_err().to_string();
     assert!(e.contains("bearing_C"), "{e}");
 }
+
+/// The force Jacobians' velocity columns leave the ring contact out (it depends on positions
+/// alone, so it cancels in their difference quotients): with both journals pressed into their
+/// rings they equal difference quotients of the whole force vector, to the quotients' own
+/// rounding.
+#[test]
+fn velocity_columns_without_the_contact_equal_those_of_the_whole_force() {
+    use fmu_rotor::ggl::{force_jacobians, Work};
+    use fmu_rotor::rotor::{build_system, initial_state, N_INPUTS};
+    let p = RotorParams {
+        contact: Some([BoreContact::paper(), BoreContact::paper()]),
+        ..RotorParams::paper()
+    };
+    let sys = build_system(&p, None);
+    let nq = sys.n_coords();
+    let (mut x, mut v) = initial_state(&p);
+    // The rotor 3 C below its rings (beyond the lobes' steps of 2 C), moving and spinning.
+    x[1] -= 3.0 * Bore::paper().c_m;
+    for (i, vi) in v.iter_mut().enumerate() {
+        *vi += 1e-3 * (i as f64 + 1.0).sin();
+    }
+    let u = [0.0; N_INPUTS];
+    let mut work = Work::new(sys.bodies.len());
+    let (mut with, mut without) = (vec![0.0; nq], vec![0.0; nq]);
+    sys.eval_with(&x, &v, &u, &mut work.m_blocks, &mut with, true);
+    sys.eval_with(&x, &v, &u, &mut work.m_blocks, &mut without, false);
+    let contact = (with[1] - without[1]).abs();
+    assert!(
+        contact > 10.0,
+        "the journals must press on their rings: {contact} N"
+    );
+    let (_, fv, _) = force_jacobians(&sys, &x, &v, &u, &mut work);
+    let mut vp = v.clone();
+    let mut f = vec![0.0; nq];
+    let scale = fv.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+    for j in 0..nq {
+        let dv = 1.5e-8 * v[j].abs().max(1.0);
+        vp[j] = v[j] + dv;
+        sys.eval(&x, &vp, &u, &mut work.m_blocks, &mut f);
+        vp[j] = v[j];
+        for i in 0..nq {
+            let whole = (f[i] - with[i]) / dv;
+            // Rounding of a force of ~|with| over dv.
+            let tol = 1e-6 * scale + 4.0 * f64::EPSILON * with[i].abs() / dv;
+            assert!(
+                (fv[i * nq + j] - whole).abs() <= tol,
+                "({i}, {j}): {} vs {whole}",
+                fv[i * nq + j]
+            );
+        }
+    }
+}
