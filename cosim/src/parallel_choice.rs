@@ -26,15 +26,24 @@ const PROBE_WARMUP: u32 = 8;
 /// probe confirms the choice).
 const HOLD_MIN: u64 = 2_000;
 const HOLD_MAX: u64 = 16_000;
-/// While parallel is held: this many consecutive group steps slower than serial was in the last
-/// probe end the hold at once (another process arrived: a stalled worker costs 10x per step).
-const STALLS_TO_REPROBE: u32 = 8;
+/// While parallel is held: once its steps have cost this many serial steps' worth of time beyond
+/// [`STALL_SLACK`] serial steps each (summed over the hold, a sum that never goes below zero), the
+/// hold ends at once (another process arrived: a stalled worker costs 10-20x per step). Until
+/// 2026-12-05 the rule was 8 slower steps in a row, which a busy machine's scheduling defeats:
+/// stalled steps alternate with fast ones (path 1 under one busy loop stepped 455 groups in
+/// parallel; its last parallel probe took 2.7 ms per step, serial 0.13 ms).
+const EXCESS_TO_REPROBE: f64 = 16.0;
+/// What a held parallel step may take before it counts towards that excess, in serial steps: on a
+/// quiet machine a step where a film refreshes its Newton matrices takes longer than the probe's
+/// mean, and clusters of them must not end a hold that pays (a stall under load is 10-20x).
+const STALL_SLACK: f64 = 2.0;
 /// Parallel must beat serial by this factor: on a tie, one thread leaves a core to others.
 const PARALLEL_MARGIN: f64 = 0.95;
 /// A parallel probe ends early, after this many steps, once it has cost twice what serial steps
 /// would have: on a busy machine a parallel step can take 10x a serial one, and a whole window of
-/// them would cost more than the choice saves.
-const PROBE_ABORT_AFTER: u32 = 4;
+/// them would cost more than the choice saves. (4 until 2026-12-05; on a quiet machine the first
+/// two parallel steps, the workers' wake-up included, cost less than two serial steps.)
+const PROBE_ABORT_AFTER: u32 = 2;
 
 #[derive(Clone, Copy, Debug)]
 enum Phase {
@@ -50,8 +59,9 @@ enum Phase {
     Hold {
         mode: Stepping,
         left: u64,
-        /// Consecutive parallel steps slower than the last serial probe.
-        stalls: u32,
+        /// Parallel only: the time its steps cost beyond [`STALL_SLACK`] times the last serial
+        /// probe's mean, summed over the hold and floored at zero [us].
+        excess_us: f64,
     },
 }
 
@@ -177,12 +187,17 @@ impl SteppingChoice {
                     }
                 }
             }
-            Phase::Hold { mode, left, stalls } if left > 1 => {
-                let slow = mode == Stepping::Parallel
-                    && self.means[index(Stepping::Serial)]
-                        .is_some_and(|s| wall.as_secs_f64() * 1e6 > s);
-                let stalls = if slow { stalls + 1 } else { 0 };
-                if stalls >= STALLS_TO_REPROBE {
+            Phase::Hold {
+                mode,
+                left,
+                excess_us,
+            } if left > 1 => {
+                let serial_us =
+                    self.means[index(Stepping::Serial)].filter(|_| mode == Stepping::Parallel);
+                let excess_us = serial_us.map_or(0.0, |s| {
+                    (excess_us + wall.as_secs_f64() * 1e6 - STALL_SLACK * s).max(0.0)
+                });
+                if serial_us.is_some_and(|s| excess_us > EXCESS_TO_REPROBE * s) {
                     Phase::Probe {
                         mode: Stepping::Serial,
                         done: 0,
@@ -194,7 +209,7 @@ impl SteppingChoice {
                     Phase::Hold {
                         mode,
                         left: left - 1,
-                        stalls,
+                        excess_us,
                     }
                 }
             }
@@ -229,7 +244,7 @@ impl SteppingChoice {
         Phase::Hold {
             mode: choice,
             left: self.hold,
-            stalls: 0,
+            excess_us: 0.0,
         }
     }
 }
@@ -303,5 +318,32 @@ mod tests {
         assert_eq!(at(21_000), Some(Stepping::Serial));
         assert_eq!(at(119_000), Some(Stepping::Parallel));
         assert!(c.stats().switches >= 2);
+    }
+
+    /// Under load a parallel step stalls now and then, between fast ones (the scheduler gives the
+    /// competing process its time slices): the hold ends after the second stall, although no
+    /// two come in a row, and the run ends up stepping serially.
+    #[test]
+    fn intermittent_stalls_end_a_parallel_hold() {
+        // Quiet for 10 000 steps (parallel pays), then every third parallel step stalls.
+        let cost = |k: u64, m: Stepping| match m {
+            Stepping::Serial => 170,
+            Stepping::Parallel if k >= 10_000 && k.is_multiple_of(3) => 2_700,
+            Stepping::Parallel => 100,
+        };
+        let mut c = SteppingChoice::new();
+        let mut parallel_after = 0;
+        for k in 0..60_000u64 {
+            let m = c.next();
+            c.record(Duration::from_micros(cost(k, m)));
+            parallel_after += u64::from(k >= 10_000 && m == Stepping::Parallel);
+        }
+        let s = c.stats();
+        assert_eq!(s.choice, Some(Stepping::Serial), "{s:?}");
+        // A few stalled steps end the hold; later probes lose within their first steps.
+        assert!(
+            parallel_after < 100,
+            "{parallel_after} parallel steps under load: {s:?}"
+        );
     }
 }
