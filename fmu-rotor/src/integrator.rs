@@ -14,7 +14,7 @@
 //! * Only x and v enter the error and Newton norms; the multipliers are algebraic (index 2) and
 //!   coordinates fixed by a constraint are excluded too (they are exact by construction).
 //! * The iteration matrix is refactored only if beta h changes by more than 25 % (from the
-//!   current and from the previous factorization, which is kept) or Newton converges slowly;
+//!   current factorization and from the three kept before it) or Newton converges slowly;
 //!   force Jacobians are recomputed only after Newton trouble. In a
 //!   co-simulation with fixed communication steps every step has the same h, so one
 //!   factorization serves thousands of steps.
@@ -135,7 +135,6 @@ pub struct GglBdf {
     /// size: in path 1's large whirl nearly every macro step did so, 47 011 factorizations in
     /// 3 s. Where the master refines its macro steps (journals riding on their rings) the steps
     /// follow the refinement levels, halves of each other, and come back to them.
-    #[serde(default)]
     lu_prev: Vec<(Lu, f64, f64)>,
     u_last: Vec<f64>,
     n_inputs: usize,

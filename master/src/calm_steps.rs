@@ -7,8 +7,9 @@
 //! whirl (docs/convergence.md, "A 100 us macro step"). Where every mode is well damped that
 //! error is a small fraction of the mode's own damping and changes nothing that is measured.
 //!
-//! How: the linear stability analysis (`crate::stability`, on a coarse film mesh, ~0.4 s) gives
-//! the least damping ratio of all modes at speeds every 50 Hz along the speed profile. The run is
+//! How: the linear stability analysis (`crate::stability`, on a coarse film mesh, ~0.1 s per 12
+//! speeds) gives the least damping ratio of all modes at speeds every 50 Hz along the speed
+//! profile, from the lowest speed up to where the window is decided. The run is
 //! calm from the first time the speed lies on that grid with both neighbouring grid speeds
 //! analysed and the interpolated least damping ratio at least [`CALM_DAMPING_RATIO`], until the
 //! first time it is not. Only that first stretch: after a loss of damping the rotor may carry a
@@ -46,7 +47,8 @@ const TIME_STEP_S: f64 = 1e-3;
 pub struct CalmPlan {
     /// [start, end] of simulated time [s] with long macro steps (none or one).
     pub windows_s: Vec<(f64, f64)>,
-    /// Per grid speed [Hz]: the least damping ratio of all modes, None where the analysis failed.
+    /// Per grid speed [Hz] analysed (from the lowest up to where the window is decided): the
+    /// least damping ratio of all modes, None where the analysis failed.
     pub least_damping: Vec<(f64, Option<f64>)>,
     /// Why there is no window although one was asked for (the analysis could not run).
     #[serde(skip_serializing_if = "Option::is_none")]
