@@ -6,7 +6,7 @@
 
 use crate::geometry::{gap_m, GapField, Geometry};
 use crate::mesh::{at_gauss_points, shape1, Mesh, GAUSS3_W, GAUSS3_X};
-use crate::node_functionals::dot;
+use crate::node_functionals::dot_gauge;
 use crate::params::BearingParams;
 use crate::JournalState;
 use serde::{Deserialize, Serialize};
@@ -56,12 +56,14 @@ impl FilmOutputs {
 }
 
 /// Pressure part of the force (N) from the scaled nodal pressures `p` of all blocks: per node a
-/// fixed weight (`node_functionals`), Int (P - 1) cos theta = p_cos . P - Int cos theta.
+/// fixed weight (`node_functionals`), Int (P - 1) cos theta = p_cos . (P - 1). The gauge pressure
+/// in the sum, not Int P cos theta - Int cos theta: no cancellation of two ~30 N sums, and
+/// ambient pressure gives exactly zero (a master reading the outputs at rest checks that).
 pub fn pressure_force_n(prm: &BearingParams, mesh: &Mesh, geom: &Geometry, p: &[f64]) -> [f64; 2] {
     debug_assert_eq!(p.len(), mesh.n_blocks * mesh.npb);
     let f = &geom.nodal;
-    let fx = dot(&f.p_cos, p) - f.one_cos;
-    let fy = dot(&f.p_sin, p) - f.one_sin;
+    let fx = dot_gauge(&f.p_cos, p);
+    let fy = dot_gauge(&f.p_sin, p);
     let s = -2.0 * prm.p_a_pa * prm.bore.r_m * prm.bore.r_m;
     [s * fx, s * fy]
 }

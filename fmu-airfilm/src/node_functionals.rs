@@ -15,12 +15,10 @@ use crate::column_integrals::ColumnIntegrals;
 /// Weights per node of all blocks (block k's node i at k * npb + i).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct NodeFunctionals {
-    /// Int P cos theta and Int P sin theta over the lobes.
+    /// Int P cos theta and Int P sin theta over the lobes (applied to P - 1, the gauge pressure:
+    /// the weights of a column sum to its Int 1, so ambient pressure gives exactly zero force).
     pub p_cos: Vec<f64>,
     pub p_sin: Vec<f64>,
-    /// Int cos theta and Int sin theta over the lobes (the ambient pressure's part).
-    pub one_cos: f64,
-    pub one_sin: f64,
     /// Int (1 + step) dP/dxi, Int cos theta dP/dxi and Int sin theta dP/dxi over the lobes.
     pub dp_step: Vec<f64>,
     pub dp_cos: Vec<f64>,
@@ -46,14 +44,11 @@ impl NodeFunctionals {
             dp_step: vec![0.0; n],
             dp_cos: vec![0.0; n],
             dp_sin: vec![0.0; n],
-            ..Default::default()
         };
         for k in 0..n_blocks {
             for g in 0..nq {
                 let gi = k * nq + g;
                 let (c, s, st) = (cos_q[gi], sin_q[gi], step_q[gi]);
-                f.one_cos += cols.w_one[g] * c;
-                f.one_sin += cols.w_one[g] * s;
                 for (node, w_p, w_dp) in cols.entries(g) {
                     let i = k * npb + node;
                     f.p_cos[i] += w_p * c;
@@ -79,6 +74,26 @@ impl NodeFunctionals {
         .iter()
         .all(|v| v.len() == n)
     }
+}
+
+/// Sum of w[i] (p[i] - 1) (the gauge part of a scaled pressure), in eight chains like [`dot`].
+#[inline]
+pub fn dot_gauge(w: &[f64], p: &[f64]) -> f64 {
+    const CHAINS: usize = 8;
+    let mut lanes = [0.0; CHAINS];
+    let (wc, pc) = (w.chunks_exact(CHAINS), p.chunks_exact(CHAINS));
+    let tail: f64 = wc
+        .remainder()
+        .iter()
+        .zip(pc.remainder())
+        .map(|(a, b)| a * (b - 1.0))
+        .sum();
+    for (a, b) in wc.zip(pc) {
+        for l in 0..CHAINS {
+            lanes[l] += a[l] * (b[l] - 1.0);
+        }
+    }
+    lanes.iter().sum::<f64>() + tail
 }
 
 /// Sum of w[i] p[i], in eight independent chains of additions (they vectorize).
@@ -130,6 +145,11 @@ mod tests {
             let geom = Geometry::new(&prm, &mesh);
             let n = mesh.n_blocks * mesh.npb;
             assert!(geom.nodal.fits(n));
+            // Ambient pressure everywhere: exactly no force.
+            assert_eq!(
+                pressure_force_n(&prm, &mesh, &geom, &vec![1.0; n]),
+                [0.0, 0.0]
+            );
             for trial in 0..20 {
                 let p: Vec<f64> = (0..n).map(|_| 0.5 + 2.0 * uniform(&mut seed)).collect();
                 let f = pressure_force_n(&prm, &mesh, &geom, &p);
