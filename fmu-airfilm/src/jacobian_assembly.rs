@@ -20,6 +20,19 @@ use crate::reynolds::Coeffs;
 /// Elements assembled side by side: one per f64 lane of an AVX2 vector (the residual's too).
 pub(crate) const ELEM_LANES: usize = 4;
 
+/// The elements `0..ne` in groups of [`ELEM_LANES`]: (first element, elements used, the element
+/// of each lane). The last group repeats its last element in the unused lanes (computed there,
+/// never added).
+#[inline(always)]
+pub(crate) fn element_groups(
+    ne: usize,
+) -> impl Iterator<Item = (usize, usize, [usize; ELEM_LANES])> {
+    (0..ne).step_by(ELEM_LANES).map(move |e0| {
+        let used = (ne - e0).min(ELEM_LANES);
+        (e0, used, std::array::from_fn(|l| e0 + l.min(used - 1)))
+    })
+}
+
 /// `reynolds::jacobian`'s body, inlined into its runtime dispatch.
 #[inline(always)]
 pub(crate) fn jacobian_element_lanes(
@@ -48,12 +61,7 @@ pub(crate) fn jacobian_element_lanes(
             nys[q][a] = b.dy[q][a] * sy;
         }
     }
-    let ne = mesh.elem.len();
-    let mut e0 = 0;
-    while e0 < ne {
-        // The last group repeats its last element in the unused lanes (computed, not added).
-        let used = (ne - e0).min(L);
-        let lane_elem: [usize; L] = std::array::from_fn(|l| e0 + l.min(used - 1));
+    for (e0, used, lane_elem) in element_groups(mesh.elem.len()) {
         let mut pe = [[0.0; L]; 9];
         for (l, &e) in lane_elem.iter().enumerate() {
             for (a, &node) in mesh.elem[e].iter().enumerate() {
@@ -113,7 +121,6 @@ pub(crate) fn jacobian_element_lanes(
                 lu.add_row(nodes[a] as usize, &nodes[..], &row);
             }
         }
-        e0 += used;
     }
     for (i, d) in mesh.dirichlet.iter().enumerate() {
         if *d {

@@ -76,29 +76,21 @@ impl NodeFunctionals {
     }
 }
 
-/// Sum of w[i] (p[i] - 1) (the gauge part of a scaled pressure), in eight chains like [`dot`].
+/// Sum of w[i] (p[i] - 1) (the gauge part of a scaled pressure), like [`dot`].
 #[inline]
 pub fn dot_gauge(w: &[f64], p: &[f64]) -> f64 {
-    const CHAINS: usize = 8;
-    let mut lanes = [0.0; CHAINS];
-    let (wc, pc) = (w.chunks_exact(CHAINS), p.chunks_exact(CHAINS));
-    let tail: f64 = wc
-        .remainder()
-        .iter()
-        .zip(pc.remainder())
-        .map(|(a, b)| a * (b - 1.0))
-        .sum();
-    for (a, b) in wc.zip(pc) {
-        for l in 0..CHAINS {
-            lanes[l] += a[l] * (b[l] - 1.0);
-        }
-    }
-    lanes.iter().sum::<f64>() + tail
+    dot_of(w, p, |x| x - 1.0)
 }
 
 /// Sum of w[i] p[i], in eight independent chains of additions (they vectorize).
 #[inline]
 pub fn dot(w: &[f64], p: &[f64]) -> f64 {
+    dot_of(w, p, |x| x)
+}
+
+/// Sum of w[i] f(p[i]) in eight chains (one chain waits for each addition before the next).
+#[inline(always)]
+fn dot_of(w: &[f64], p: &[f64], f: impl Fn(f64) -> f64) -> f64 {
     const CHAINS: usize = 8;
     let mut lanes = [0.0; CHAINS];
     let (wc, pc) = (w.chunks_exact(CHAINS), p.chunks_exact(CHAINS));
@@ -106,11 +98,11 @@ pub fn dot(w: &[f64], p: &[f64]) -> f64 {
         .remainder()
         .iter()
         .zip(pc.remainder())
-        .map(|(a, b)| a * b)
+        .map(|(a, &b)| a * f(b))
         .sum();
     for (a, b) in wc.zip(pc) {
         for l in 0..CHAINS {
-            lanes[l] += a[l] * b[l];
+            lanes[l] += a[l] * f(b[l]);
         }
     }
     lanes.iter().sum::<f64>() + tail

@@ -11,7 +11,7 @@
 //! (tested against it to 1e-13 of the element terms' scale).
 
 use crate::geometry::GapField;
-use crate::jacobian_assembly::ELEM_LANES;
+use crate::jacobian_assembly::{element_groups, ELEM_LANES};
 use crate::mesh::{shape1, Mesh, GAUSS3_X};
 use crate::reynolds::Coeffs;
 
@@ -49,12 +49,7 @@ pub(crate) fn residual_element_lanes(
     let wj: [f64; 9] = std::array::from_fn(|q| mesh.basis.w[q] * jac);
     let nq = 3 * mesh.ne_phi;
     let (lam, tau, c0) = (co.lambda, co.tau_s, co.c0_per_s);
-    let ne = mesh.elem.len();
-    let mut e0 = 0;
-    while e0 < ne {
-        // The last group repeats its last element in the unused lanes (computed, not added).
-        let used = (ne - e0).min(L);
-        let lane_elem: [usize; L] = std::array::from_fn(|l| e0 + l.min(used - 1));
+    for (e0, used, lane_elem) in element_groups(mesh.elem.len()) {
         let mut pe = [[0.0; L]; 9];
         let mut pd = [[0.0; L]; 9];
         for (l, &e) in lane_elem.iter().enumerate() {
@@ -149,7 +144,6 @@ pub(crate) fn residual_element_lanes(
                 out[node as usize] += re[a][l];
             }
         }
-        e0 += used;
     }
     for (i, d) in mesh.dirichlet.iter().enumerate() {
         if *d {
