@@ -153,6 +153,21 @@ pub fn iteration_matrix(
     fv: &[f64],
     beta_h: f64,
 ) -> Result<Lu, RotorError> {
+    let a = assemble_iteration_matrix(nq, nc, g_mat, m_flat, fx, fv, beta_h);
+    Lu::factor(2 * nq + 2 * nc, a, "GGL iteration matrix")
+}
+
+/// The iteration matrix dF/dw (row-major, (2 nq + 2 nc) squared) that [`iteration_matrix`]
+/// factors.
+pub fn assemble_iteration_matrix(
+    nq: usize,
+    nc: usize,
+    g_mat: &[f64],
+    m_flat: &[f64],
+    fx: &[f64],
+    fv: &[f64],
+    beta_h: f64,
+) -> Vec<f64> {
     let n = 2 * nq + 2 * nc;
     let mut a = vec![0.0; n * n];
     for (b, m6) in m_flat.chunks(36).enumerate() {
@@ -182,7 +197,7 @@ pub fn iteration_matrix(
             }
         }
     }
-    Lu::factor(n, a, "GGL iteration matrix")
+    a
 }
 
 /// Consistent accelerations a and multipliers lambda at (t, x, v): solves

@@ -5,7 +5,8 @@
 //! iteration) and the 8 x 8 lateral mass matrix. The factorization is written out here: the GGL
 //! matrix has about 134 nonzeros of 3136 and the elimination skips zero multipliers, which makes
 //! it 2.7 times faster than faer's dense `lu_in_place` on that matrix (BENCHMARKS.md, "faer
-//! (session 7)"). The triangular solves run over the factors' nonzeros only, row by row (until
+//! (session 7)"); since 2026-12-05 it also updates only the columns where the pivot row of U has
+//! a nonzero (benches/linalg.rs). The triangular solves run over the factors' nonzeros only, row by row (until
 //! 2026-12-05 faer's dense solves, 1.6 times faster than plain dense loops): the GGL factors keep
 //! most of the matrix's zeros, and a run-up solves with them at every Newton iteration. The
 //! factors are plain data, serialized as the dense factors and the pivots (the nonzero lists are
@@ -77,9 +78,10 @@ struct FactorRows {
 }
 
 impl FactorRows {
-    fn new(n: usize, lu: &[f64]) -> FactorRows {
-        // Sized for a dense factor up front: a run-up refactorizes up to every step where a
-        // journal rides on its ring, and growing the lists entry by entry was costly there.
+    /// Empty lists for an n x n factorization, sized for dense factors up front: a run-up
+    /// refactorizes up to every step where a journal rides on its ring, and growing the lists
+    /// entry by entry was costly there.
+    fn with_capacity(n: usize) -> FactorRows {
         let half = n * n.saturating_sub(1) / 2;
         let mut r = FactorRows {
             l_start: Vec::with_capacity(n + 1),
@@ -92,34 +94,58 @@ impl FactorRows {
         };
         r.l_start.push(0);
         r.u_start.push(0);
-        for i in 0..n {
-            let row = &lu[i * n..(i + 1) * n];
-            // A NaN entry is kept (it must reach the solution, never be skipped).
-            for (j, &v) in row[..i].iter().enumerate() {
-                if v != 0.0 {
-                    r.l_col.push(j as u32);
-                    r.l_val.push(v);
-                }
+        r
+    }
+
+    /// Appends row `i` of U (the diagonal and the nonzeros right of it) from the factor's row.
+    /// A NaN entry is kept (it must reach the solution, never be skipped).
+    fn push_u_row(&mut self, i: usize, row: &[f64]) {
+        for (j, &v) in row[i + 1..].iter().enumerate() {
+            if v != 0.0 {
+                self.u_col.push((i + 1 + j) as u32);
+                self.u_val.push(v);
             }
-            for (j, &v) in row[i + 1..].iter().enumerate() {
-                if v != 0.0 {
-                    r.u_col.push((i + 1 + j) as u32);
-                    r.u_val.push(v);
-                }
-            }
-            r.l_start.push(r.l_col.len() as u32);
-            r.u_start.push(r.u_col.len() as u32);
-            r.diag.push(row[i]);
         }
+        self.u_start.push(self.u_col.len() as u32);
+        self.diag.push(row[i]);
+    }
+
+    /// Lists the nonzeros of L (the strict lower triangle of the final factors).
+    fn push_l_rows(&mut self, n: usize, lu: &[f64]) {
+        for i in 0..n {
+            for (j, &v) in lu[i * n..i * n + i].iter().enumerate() {
+                if v != 0.0 {
+                    self.l_col.push(j as u32);
+                    self.l_val.push(v);
+                }
+            }
+            self.l_start.push(self.l_col.len() as u32);
+        }
+    }
+
+    /// The lists of finished dense factors (a state read back).
+    fn new(n: usize, lu: &[f64]) -> FactorRows {
+        let mut r = FactorRows::with_capacity(n);
+        for i in 0..n {
+            r.push_u_row(i, &lu[i * n..(i + 1) * n]);
+        }
+        r.push_l_rows(n, lu);
         r
     }
 }
 
 impl Lu {
     /// Factor the row-major n x n matrix `a` (consumed).
+    ///
+    /// Row k of U is final once its pivot is in place (later steps swap and update only rows
+    /// below it), so its nonzeros are listed then, and the elimination updates the rows below
+    /// in those columns only: the entries a dense row update would leave unchanged (x - l 0) are
+    /// skipped, the others computed as before. The GGL matrix's rows of U hold a few nonzeros of
+    /// up to 55 columns.
     pub fn factor(n: usize, mut a: Vec<f64>, what: &'static str) -> Result<Lu, RotorError> {
         debug_assert_eq!(a.len(), n * n);
         let mut piv = vec![0usize; n];
+        let mut rows = FactorRows::with_capacity(n);
         for k in 0..n {
             let mut p = k;
             let mut best = a[k * n + k].abs();
@@ -139,23 +165,25 @@ impl Lu {
                     a.swap(k * n + j, p * n + j);
                 }
             }
+            let first = rows.u_col.len();
+            rows.push_u_row(k, &a[k * n..(k + 1) * n]);
+            let u_cols = &rows.u_col[first..];
+            let u_vals = &rows.u_val[first..];
             let inv = 1.0 / a[k * n + k];
             for i in k + 1..n {
-                let l = a[i * n + k] * inv;
+                let row = &mut a[i * n..(i + 1) * n];
+                let l = row[k] * inv;
                 if l != 0.0 {
-                    a[i * n + k] = l;
-                    let (top, bottom) = a.split_at_mut(i * n);
-                    let rk = &top[k * n + k + 1..k * n + n];
-                    let ri = &mut bottom[k + 1..n];
-                    for (x, y) in ri.iter_mut().zip(rk) {
-                        *x -= l * y;
+                    row[k] = l;
+                    for (&j, &u) in u_cols.iter().zip(u_vals) {
+                        row[j as usize] -= l * u;
                     }
                 } else {
-                    a[i * n + k] = 0.0;
+                    row[k] = 0.0;
                 }
             }
         }
-        let rows = FactorRows::new(n, &a);
+        rows.push_l_rows(n, &a);
         Ok(Lu {
             n,
             lu: a,
