@@ -11,7 +11,7 @@
 
 use crate::linalg::Lu;
 use crate::params::RotorError;
-use crate::system::MultibodySystem;
+use crate::system::{ContactMemo, MultibodySystem, RingContacts};
 
 /// Constant constraint Jacobian G (n_c x n_q, row-major). Valid because all constraints of
 /// `constraint.rs` are linear in x.
@@ -44,6 +44,8 @@ pub struct Work {
     pub f: Vec<f64>,
     pub tmp: Vec<f64>,
     pub tmp2: Vec<f64>,
+    /// The ring contacts at the point a force Jacobian is taken.
+    pub contacts: ContactMemo,
 }
 
 impl Work {
@@ -53,6 +55,7 @@ impl Work {
             f: vec![0.0; 6 * nb],
             tmp: vec![0.0; 6 * nb],
             tmp2: vec![0.0; 6 * nb],
+            contacts: ContactMemo::default(),
         }
     }
 }
@@ -110,7 +113,8 @@ pub fn force_jacobians(
     work: &mut Work,
 ) -> (Vec<f64>, Vec<f64>, Vec<[f64; 36]>) {
     let nq = sys.n_coords();
-    sys.eval(x, v, u, &mut work.m_blocks, &mut work.f);
+    let record = RingContacts::Record(&mut work.contacts);
+    sys.eval_with(x, v, u, &mut work.m_blocks, &mut work.f, record);
     let m0 = work.m_blocks.clone();
     let f0 = work.f.clone();
     let mut fx = vec![0.0; nq * nq];
@@ -120,20 +124,29 @@ pub fn force_jacobians(
     // The velocity columns without the forces of the positions alone (the ring contact): they
     // cancel in the difference, and took half of the contact evaluations of a refresh.
     let mut f0_v = vec![0.0; nq];
-    sys.eval_with(x, v, u, &mut work.m_blocks, &mut f0_v, false);
+    sys.eval_with(x, v, u, &mut work.m_blocks, &mut f0_v, RingContacts::Omit);
     for j in 0..nq {
         // Position scale 1e-3 (m or rad) and velocity scale 1 keep the increments far above
         // round-off for the tiny lateral coordinates; forces are nearly linear in them.
         let dx = 1.5e-8 * x[j].abs().max(1e-3);
         xp[j] = x[j] + dx;
-        sys.eval(&xp, v, u, &mut work.m_blocks, &mut work.f);
+        // A coordinate that does not move a journal against its ring reuses that contact's force.
+        let reuse = RingContacts::Reuse(&mut work.contacts);
+        sys.eval_with(&xp, v, u, &mut work.m_blocks, &mut work.f, reuse);
         for i in 0..nq {
             fx[i * nq + j] = (work.f[i] - f0[i]) / dx;
         }
         xp[j] = x[j];
         let dv = 1.5e-8 * v[j].abs().max(1.0);
         vp[j] = v[j] + dv;
-        sys.eval_with(x, &vp, u, &mut work.m_blocks, &mut work.f, false);
+        sys.eval_with(
+            x,
+            &vp,
+            u,
+            &mut work.m_blocks,
+            &mut work.f,
+            RingContacts::Omit,
+        );
         for i in 0..nq {
             fv[i * nq + j] = (work.f[i] - f0_v[i]) / dv;
         }

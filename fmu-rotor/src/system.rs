@@ -72,12 +72,11 @@ impl MultibodySystem {
 
     /// Mass matrix blocks (one row-major 6x6 per body) and f_e. `u` are the input forces.
     pub fn eval(&self, x: &[f64], v: &[f64], u: &[f64], m_blocks: &mut [[f64; 36]], f: &mut [f64]) {
-        self.eval_with(x, v, u, m_blocks, f, true)
+        self.eval_with(x, v, u, m_blocks, f, RingContacts::Evaluate)
     }
 
-    /// [`Self::eval`], with the forces that depend on the positions alone (the ring contact)
-    /// left out unless `position_only_forces`: a difference quotient in a velocity does not need
-    /// them, and the contact is most of an evaluation while a journal rides on its ring.
+    /// [`Self::eval`], with the ring contacts' forces (they depend on the positions alone)
+    /// evaluated, left out, recorded or reused as `contacts` says.
     pub fn eval_with(
         &self,
         x: &[f64],
@@ -85,7 +84,7 @@ impl MultibodySystem {
         u: &[f64],
         m_blocks: &mut [[f64; 36]],
         f: &mut [f64],
-        position_only_forces: bool,
+        mut contacts: RingContacts<'_>,
     ) {
         let kins = self.kinematics(x, v);
         for (b, body) in self.bodies.iter().enumerate() {
@@ -95,7 +94,7 @@ impl MultibodySystem {
             m_blocks[b] = m6;
             f[6 * b..6 * b + 6].copy_from_slice(&f6);
         }
-        for fe in &self.forces {
+        for (e, fe) in self.forces.iter().enumerate() {
             match *fe {
                 ForceElement::Mount {
                     body,
@@ -147,18 +146,21 @@ impl MultibodySystem {
                     s_a_m,
                     body_b,
                     ref bearing,
-                } if position_only_forces => {
+                } => {
+                    if matches!(contacts, RingContacts::Omit) {
+                        continue;
+                    }
                     let ka = &kins[body_a];
                     let kb = &kins[body_b];
                     let pa = ka.point_pos(&s_a_m);
-                    let fc = bearing.force_n([pa[0] - kb.r[0], pa[1] - kb.r[1]]);
+                    let d = [pa[0] - kb.r[0], pa[1] - kb.r[1]];
+                    let fc = contacts.force_n(e, d, || bearing.force_n(d));
                     if fc != [0.0, 0.0] {
                         add_point_force(f, body_a, ka, &s_a_m, &[fc[0], fc[1], 0.0]);
                         f[6 * body_b] -= fc[0];
                         f[6 * body_b + 1] -= fc[1];
                     }
                 }
-                ForceElement::RingContact { .. } => {}
             }
         }
     }
@@ -171,6 +173,63 @@ impl MultibodySystem {
             .zip(&kins)
             .map(|(b, k)| b.kinetic_energy(k))
             .sum()
+    }
+}
+
+/// What an evaluation does with the ring contacts.
+pub enum RingContacts<'a> {
+    /// Evaluates them.
+    Evaluate,
+    /// Leaves them out: a difference quotient in a velocity does not need them (they cancel), and
+    /// the contact is most of an evaluation while a journal rides on its ring.
+    Omit,
+    /// Evaluates them and records each one's relative displacement and force.
+    Record(&'a mut ContactMemo),
+    /// Reuses a recorded force where the relative displacement is bitwise the recorded one (a
+    /// difference quotient in a coordinate that does not move that journal against its ring:
+    /// the other bearing's, axial ones, the spin), evaluates the others.
+    Reuse(&'a mut ContactMemo),
+}
+
+impl RingContacts<'_> {
+    fn force_n(
+        &mut self,
+        element: usize,
+        d: [f64; 2],
+        eval: impl FnOnce() -> [f64; 2],
+    ) -> [f64; 2] {
+        match self {
+            RingContacts::Record(memo) => {
+                let fc = eval();
+                if memo.recorded.len() <= element {
+                    memo.recorded.resize(element + 1, None);
+                }
+                memo.recorded[element] = Some((d, fc));
+                fc
+            }
+            RingContacts::Reuse(memo) => match memo.recorded.get(element) {
+                Some(&Some((dr, fc))) if dr.map(f64::to_bits) == d.map(f64::to_bits) => {
+                    memo.reused += 1;
+                    fc
+                }
+                _ => eval(),
+            },
+            RingContacts::Evaluate | RingContacts::Omit => eval(),
+        }
+    }
+}
+
+/// The ring contacts' relative displacements and forces at one configuration, by force element.
+#[derive(Clone, Debug, Default)]
+pub struct ContactMemo {
+    recorded: Vec<Option<([f64; 2], [f64; 2])>>,
+    reused: usize,
+}
+
+impl ContactMemo {
+    /// Contact forces reused so far.
+    pub fn reused(&self) -> usize {
+        self.reused
     }
 }
 

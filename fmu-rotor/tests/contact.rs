@@ -121,6 +121,7 @@ fn a_bad_contact_geometry_is_reported_under_the_rotor_parameter_name() {
 fn velocity_columns_without_the_contact_equal_those_of_the_whole_force() {
     use fmu_rotor::ggl::{force_jacobians, Work};
     use fmu_rotor::rotor::{build_system, initial_state, N_INPUTS};
+    use fmu_rotor::system::RingContacts;
     let p = RotorParams {
         contact: Some([BoreContact::paper(), BoreContact::paper()]),
         ..RotorParams::paper()
@@ -136,8 +137,22 @@ fn velocity_columns_without_the_contact_equal_those_of_the_whole_force() {
     let u = [0.0; N_INPUTS];
     let mut work = Work::new(sys.bodies.len());
     let (mut with, mut without) = (vec![0.0; nq], vec![0.0; nq]);
-    sys.eval_with(&x, &v, &u, &mut work.m_blocks, &mut with, true);
-    sys.eval_with(&x, &v, &u, &mut work.m_blocks, &mut without, false);
+    sys.eval_with(
+        &x,
+        &v,
+        &u,
+        &mut work.m_blocks,
+        &mut with,
+        RingContacts::Evaluate,
+    );
+    sys.eval_with(
+        &x,
+        &v,
+        &u,
+        &mut work.m_blocks,
+        &mut without,
+        RingContacts::Omit,
+    );
     let contact = (with[1] - without[1]).abs();
     assert!(
         contact > 10.0,
@@ -162,5 +177,59 @@ fn velocity_columns_without_the_contact_equal_those_of_the_whole_force() {
                 fv[i * nq + j]
             );
         }
+    }
+}
+
+/// The force Jacobians' position columns reuse a ring contact's force where the column's
+/// coordinate leaves that journal's displacement against its ring bitwise unchanged: the
+/// columns equal difference quotients of full evaluations bit for bit, with one journal pressed
+/// into its ring or both, and most of the contact evaluations are saved.
+#[test]
+fn position_columns_reusing_unmoved_contacts_equal_full_evaluations_bit_for_bit() {
+    use fmu_rotor::ggl::{force_jacobians, Work};
+    use fmu_rotor::rotor::{build_system, initial_state, N_INPUTS};
+    let p = RotorParams {
+        contact: Some([BoreContact::paper(), BoreContact::paper()]),
+        ..RotorParams::paper()
+    };
+    let sys = build_system(&p, None);
+    let nq = sys.n_coords();
+    let c = Bore::paper().c_m;
+    // Pressed: the rotor 3 C below its rings; tilted: one journal in, the other one free.
+    for (label, dy, tilt) in [
+        ("both pressed", -3.0 * c, 0.0),
+        ("one pressed", -1.5 * c, 1e-4),
+    ] {
+        let (mut x, mut v) = initial_state(&p);
+        x[1] += dy;
+        x[3] += tilt;
+        for (i, vi) in v.iter_mut().enumerate() {
+            *vi += 1e-3 * (i as f64 + 1.0).sin();
+        }
+        let u = [0.0; N_INPUTS];
+        let mut work = Work::new(sys.bodies.len());
+        let (fx, _, _) = force_jacobians(&sys, &x, &v, &u, &mut work);
+        let reused = work.contacts.reused();
+        let (mut f0, mut f) = (vec![0.0; nq], vec![0.0; nq]);
+        sys.eval(&x, &v, &u, &mut work.m_blocks, &mut f0);
+        let mut xp = x.clone();
+        for j in 0..nq {
+            let dx = 1.5e-8 * x[j].abs().max(1e-3);
+            xp[j] = x[j] + dx;
+            sys.eval(&xp, &v, &u, &mut work.m_blocks, &mut f);
+            xp[j] = x[j];
+            for i in 0..nq {
+                let full = (f[i] - f0[i]) / dx;
+                assert_eq!(
+                    fx[i * nq + j].to_bits(),
+                    full.to_bits(),
+                    "{label}: ({i}, {j}) {} vs {full}",
+                    fx[i * nq + j]
+                );
+            }
+        }
+        // Each journal moves against its ring with the rotor's 4 lateral coordinates and its
+        // ring's 2: the other 12 of the 18 columns reuse its force.
+        assert!(reused >= 2 * 12, "{label}: {reused} contact forces reused");
     }
 }
