@@ -64,8 +64,11 @@ fn main() {
     );
     // Factor and solve with partial pivoting and without (the film's default since 2026-12-04):
     // the factorization of a copy of the assembled matrix, the copy timed apart and subtracted.
-    for pivoting in [true, false] {
+    // Without interchanges also with the factors rounded to f32 for the solves (the film's
+    // Newton matrices since 2026-12-05; the factorization includes the rounding).
+    for (pivoting, single) in [(true, false), (false, false), (false, true)] {
         lu.set_pivoting(pivoting);
+        lu.set_single_precision_solves(single);
         reynolds::jacobian(&mesh, &gap, 0, co, p, &mut lu);
         let assembled = lu.clone();
         let mut work = lu.clone();
@@ -87,13 +90,29 @@ fn main() {
         });
         println!(
             "  {}: factorization median {:.2} us, triangular solves {:.2} us",
-            if pivoting {
-                "partial pivoting"
-            } else {
-                "no interchanges"
+            match (pivoting, single) {
+                (true, _) => "partial pivoting",
+                (false, false) => "no interchanges",
+                (false, true) => "no interchanges, f32 factors in the solves",
             },
             (t_factor_and_copy - t_copy) * 1e6,
             t_solve * 1e6
         );
+        if !pivoting {
+            // Two films' Newton matrices in turn, as in a run-up with serial films (six lobes,
+            // 1.5 MB of f64 factors: more than this machine's 1 MB of L2 per core).
+            let six: Vec<BandLu> = (0..6).map(|_| lu.clone()).collect();
+            let mut k = 0;
+            let t_six = time_per_call(|| {
+                b.copy_from_slice(&res);
+                six[k % 6].solve(&mut b);
+                k += 1;
+                std::hint::black_box(&mut b);
+            });
+            println!(
+                "    six lobes' matrices in turn: triangular solves {:.2} us",
+                t_six * 1e6
+            );
+        }
     }
 }

@@ -6,8 +6,10 @@
 //! extra kl rows hold the fill-in that row interchanges create, U has kl + ku superdiagonals.
 //! Without, `ldab = kl + ku + 1` and `ub = ku`: U keeps the matrix's ku superdiagonals, and the
 //! factors take (kl + ku + 1) / (2 kl + ku + 1) of the memory (57 / 85 rows for a film lobe),
-//! which the triangular solves stream through at every Newton iteration. Factor and solve
-//! allocate nothing.
+//! which the triangular solves stream through at every Newton iteration. For those solves the
+//! factors can also be kept rounded to f32 (`set_single_precision_solves`, the film's Newton
+//! matrices): half of that memory again, with the right-hand side and the arithmetic in f64.
+//! Factor and solve allocate nothing (after the first factorization of a matrix).
 
 use serde::{Deserialize, Serialize};
 
@@ -39,6 +41,7 @@ impl FactorError {
 }
 
 #[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(from = "BandLuData")]
 pub struct BandLu {
     pub n: usize,
     pub kl: usize,
@@ -53,6 +56,94 @@ pub struct BandLu {
     inv_diag: Vec<f64>,
     /// Partial pivoting (LAPACK's layout) or none (the compact layout).
     pivoting: bool,
+    /// Solve with the factors rounded to f32 ([`BandLu::set_single_precision_solves`]). Added
+    /// 2026-12-05: a state serialized before lacks it and does not read.
+    single_precision_solves: bool,
+    /// Those rounded factors, set by a factorization without row interchanges (and rebuilt when
+    /// a state is read); empty otherwise, or where an entry does not fit in f32.
+    #[serde(skip)]
+    ab_f32: Vec<f32>,
+}
+
+/// The serialized form of [`BandLu`]: its fields but the f32 copy of the factors, which follows
+/// from them.
+#[derive(Deserialize)]
+struct BandLuData {
+    n: usize,
+    kl: usize,
+    ku: usize,
+    ldab: usize,
+    ab: Vec<f64>,
+    ipiv: Vec<u32>,
+    inv_diag: Vec<f64>,
+    pivoting: bool,
+    single_precision_solves: bool,
+}
+
+impl From<BandLuData> for BandLu {
+    fn from(d: BandLuData) -> BandLu {
+        let BandLuData {
+            n,
+            kl,
+            ku,
+            ldab,
+            ab,
+            ipiv,
+            inv_diag,
+            pivoting,
+            single_precision_solves,
+        } = d;
+        let mut lu = BandLu {
+            n,
+            kl,
+            ku,
+            ldab,
+            ab,
+            ipiv,
+            inv_diag,
+            pivoting,
+            single_precision_solves,
+            ab_f32: Vec::new(),
+        };
+        if single_precision_solves && !pivoting {
+            round_to_f32(&lu.ab, &mut lu.ab_f32);
+        }
+        lu
+    }
+}
+
+/// `out` = `ab` rounded to f32, or empty if an entry does not fit (overflows to infinity; a NaN
+/// or infinity in `ab` too): the solves then take `ab` itself. The check runs in eight lanes of
+/// sums of v * 0, which stay 0 for finite v.
+fn round_to_f32(ab: &[f64], out: &mut Vec<f32>) {
+    out.resize(ab.len(), 0.0);
+    if round_into(ab, out) != 0.0 {
+        out.clear();
+    }
+}
+
+/// `dst` = `src` rounded to f32; returns the sum of the rounded values times 0 (0 unless one is
+/// infinite or NaN), in eight lanes, which vectorize.
+#[inline(always)]
+fn round_into(src: &[f64], dst: &mut [f32]) -> f32 {
+    let mut zero = [0.0f32; 8];
+    let done = src.len() - src.len() % 8;
+    for (o, a) in dst[..done]
+        .chunks_exact_mut(8)
+        .zip(src[..done].chunks_exact(8))
+    {
+        for i in 0..8 {
+            let v = a[i] as f32;
+            o[i] = v;
+            zero[i] += v * 0.0;
+        }
+    }
+    let mut z: f32 = zero.iter().sum();
+    for (o, &a) in dst[done..].iter_mut().zip(&src[done..]) {
+        *o = a as f32;
+        z += *o * 0.0;
+    }
+    z
 }
 
 /// The largest |v| of `v`; NaN if any element is NaN or infinite. In eight independent lanes,
@@ -134,16 +225,20 @@ fn update_trailing_columns_any(
 
 /// `subtract_four_columns` for b.len() = N known at compile time (no loop, no remainder test).
 #[inline(always)]
-fn subtract_four_columns_fixed<const N: usize>(b: &mut [f64], cols: [&[f64]; 4], x: [f64; 4]) {
+fn subtract_four_columns_fixed<const N: usize, T: Entry>(
+    b: &mut [f64],
+    cols: [&[T]; 4],
+    x: [f64; 4],
+) {
     let b: &mut [f64; N] = b.try_into().expect("N rows");
-    let c: [&[f64; N]; 4] = cols.map(|c| c.try_into().expect("N rows per column"));
+    let c: [&[T; N]; 4] = cols.map(|c| c.try_into().expect("N rows per column"));
     let [x0, x1, x2, x3] = x;
     for i in 0..N {
         let mut v = b[i];
-        v -= c[0][i] * x0;
-        v -= c[1][i] * x1;
-        v -= c[2][i] * x2;
-        v -= c[3][i] * x3;
+        v -= c[0][i].f64() * x0;
+        v -= c[1][i].f64() * x1;
+        v -= c[2][i].f64() * x2;
+        v -= c[3][i].f64() * x3;
         b[i] = v;
     }
 }
@@ -186,13 +281,33 @@ fn update_trailing_columns_fixed<const KM: usize>(
     }
 }
 
+/// An entry of stored factors, read as f64 by the solves: the factorization's own f64, or the f32
+/// copy of [`BandLu::set_single_precision_solves`].
+pub trait Entry: Copy {
+    fn f64(self) -> f64;
+}
+
+impl Entry for f64 {
+    #[inline(always)]
+    fn f64(self) -> f64 {
+        self
+    }
+}
+
+impl Entry for f32 {
+    #[inline(always)]
+    fn f64(self) -> f64 {
+        self as f64
+    }
+}
+
 /// t -= cols[0][i] x[0], then cols[1][i] x[1], cols[2][i] x[2], cols[3][i] x[3], for every t = b[i]:
 /// four columns of a triangular solve in one pass over b, each element updated in column order
 /// (the forward and the back substitution's inner loop).
 #[inline(always)]
-fn subtract_four_columns(b: &mut [f64], cols: [&[f64]; 4], x: [f64; 4]) {
+fn subtract_four_columns<T: Entry>(b: &mut [f64], cols: [&[T]; 4], x: [f64; 4]) {
     if b.len() == FILM_KL - 3 {
-        subtract_four_columns_fixed::<{ FILM_KL - 3 }>(b, cols, x)
+        subtract_four_columns_fixed::<{ FILM_KL - 3 }, T>(b, cols, x)
     } else {
         subtract_four_columns_any(b, cols, x)
     }
@@ -200,15 +315,15 @@ fn subtract_four_columns(b: &mut [f64], cols: [&[f64]; 4], x: [f64; 4]) {
 
 /// `subtract_four_columns` for any length.
 #[inline(always)]
-fn subtract_four_columns_any(b: &mut [f64], cols: [&[f64]; 4], x: [f64; 4]) {
+fn subtract_four_columns_any<T: Entry>(b: &mut [f64], cols: [&[T]; 4], x: [f64; 4]) {
     let [c0, c1, c2, c3] = cols;
     let [x0, x1, x2, x3] = x;
     for ((((t, &a0), &a1), &a2), &a3) in b.iter_mut().zip(c0).zip(c1).zip(c2).zip(c3) {
         let mut v = *t;
-        v -= a0 * x0;
-        v -= a1 * x1;
-        v -= a2 * x2;
-        v -= a3 * x3;
+        v -= a0.f64() * x0;
+        v -= a1.f64() * x1;
+        v -= a2.f64() * x2;
+        v -= a3.f64() * x3;
         *t = v;
     }
 }
@@ -226,6 +341,8 @@ impl BandLu {
             ipiv: vec![0; n],
             inv_diag: vec![0.0; n],
             pivoting: true,
+            single_precision_solves: false,
+            ab_f32: Vec::new(),
         }
     }
 
@@ -256,7 +373,27 @@ impl BandLu {
             self.ldab = Self::ldab_for(self.kl, self.ku, pivoting);
             self.ab.clear();
             self.ab.resize(self.ldab * self.n, 0.0);
+            self.ab_f32.clear();
         }
+    }
+
+    /// Solves with the factors rounded to f32 after each factorization without row interchanges
+    /// (from the next one on): half the memory for the solves to stream through, the f64 right-
+    /// hand side and arithmetic unchanged. Only where the solve serves an iteration that converges
+    /// on an f64 residual (modified Newton: the rounding is a far smaller change of the matrix
+    /// than the stale Jacobian and step coefficient it already reuses), never where the solution
+    /// is the answer.
+    pub fn set_single_precision_solves(&mut self, on: bool) {
+        self.single_precision_solves = on;
+        if !on {
+            self.ab_f32 = Vec::new();
+        }
+    }
+
+    /// Whether the solves use factors rounded to f32 (asked for, and the last factorization was
+    /// one without row interchanges whose entries all fit in f32).
+    pub fn solves_in_single_precision(&self) -> bool {
+        !self.ab_f32.is_empty()
     }
 
     /// Whether this is an n x n matrix of bandwidths kl, ku with its storage of that size (a
@@ -268,12 +405,14 @@ impl BandLu {
             && self.ab.len() == ldab * n
             && self.ipiv.len() == n
             && self.inv_diag.len() == n
+            && (self.ab_f32.is_empty() || self.ab_f32.len() == self.ab.len())
             && self.ipiv.iter().all(|&l| (l as usize) < n)
     }
 
     /// Clears the matrix before assembly.
     pub fn zero(&mut self) {
         self.ab.iter_mut().for_each(|v| *v = 0.0);
+        self.ab_f32.clear();
     }
 
     #[inline(always)]
@@ -351,6 +490,7 @@ impl BandLu {
     /// check. The same column-by-column update as `factor_lanes` with every interchange absent.
     #[inline(always)]
     fn factor_unpivoted_lanes(&mut self) -> Result<(), FactorError> {
+        self.ab_f32.clear();
         let (n, kl, ku, ldab) = (self.n, self.kl, self.ku, self.ldab);
         let ab = &mut self.ab;
         let a_max = abs_max(ab);
@@ -382,11 +522,17 @@ impl BandLu {
         if !(ratio <= GROWTH_LIMIT && not_finite == 0.0) {
             return Err(FactorError::Growth { ratio });
         }
+        // One pass after the elimination: rounding each column as it became final was slower
+        // (kernel bench 88 against 83 us), and a lobe solves ~25 times per factorization.
+        if self.single_precision_solves {
+            round_to_f32(ab, &mut self.ab_f32);
+        }
         Ok(())
     }
 
     #[inline(always)]
     fn factor_lanes(&mut self) -> Result<(), FactorError> {
+        self.ab_f32.clear();
         let (n, kl, ku, ldab) = (self.n, self.kl, self.ku, self.ldab);
         let kv = kl + ku;
         // Fill-in rows of the first columns must start at zero.
@@ -457,10 +603,13 @@ impl BandLu {
             type Output = ();
             #[inline(always)]
             fn with_simd<S: pulp::Simd>(self, _: S) {
-                if self.0.pivoting {
-                    self.0.solve_in_place::<true>(self.1)
+                let lu = self.0;
+                if lu.pivoting {
+                    lu.solve_in_place::<true, f64>(&lu.ab, self.1)
+                } else if lu.ab_f32.is_empty() {
+                    lu.solve_in_place::<false, f64>(&lu.ab, self.1)
                 } else {
-                    self.0.solve_in_place::<false>(self.1)
+                    lu.solve_in_place::<false, f32>(&lu.ab_f32, self.1)
                 }
             }
         }
@@ -468,17 +617,16 @@ impl BandLu {
     }
 
     #[inline(always)]
-    fn solve_in_place<const PIVOTING: bool>(&self, b: &mut [f64]) {
+    fn solve_in_place<const PIVOTING: bool, T: Entry>(&self, ab: &[T], b: &mut [f64]) {
         let (n, kl, ldab) = (self.n, self.kl, self.ldab);
         // U's bandwidth and the diagonal's row: kl + ku with pivoting, ku without.
         let kv = self.ub();
-        let ab = &self.ab;
         // Without interchanges, four columns per pass while all four reach kl rows down (see
         // `forward_eliminate_four`), then one column at a time near the bottom.
         let mut j0 = 0;
         if !PIVOTING {
             while kl >= 3 && j0 + 3 + kl < n {
-                self.forward_eliminate_four(b, j0);
+                self.forward_eliminate_four(ab, b, j0);
                 j0 += 4;
             }
         }
@@ -495,7 +643,7 @@ impl BandLu {
                 let col = j * ldab + kv;
                 // Slices + zip: no bounds checks in the hot loop.
                 for (t, &m) in b[j + 1..=j + km].iter_mut().zip(&ab[col + 1..=col + km]) {
-                    *t -= m * bj;
+                    *t -= m.f64() * bj;
                 }
             }
         }
@@ -503,7 +651,7 @@ impl BandLu {
         // `back_substitute_four`), one column at a time near the top.
         let mut j = n;
         while kv >= 3 && j >= 4 && j - 4 >= kv {
-            self.back_substitute_four(b, j - 1);
+            self.back_substitute_four(ab, b, j - 1);
             j -= 4;
         }
         for j in (0..j).rev() {
@@ -514,7 +662,7 @@ impl BandLu {
                 let i0 = j.saturating_sub(kv);
                 let ucol = &ab[col + kv + i0 - j..col + kv];
                 for (t, &u) in b[i0..j].iter_mut().zip(ucol) {
-                    *t -= u * bj;
+                    *t -= u.f64() * bj;
                 }
             }
         }
@@ -525,11 +673,10 @@ impl BandLu {
     /// gives. Every element gets the same operations in the same order as in the column loop
     /// (column j first), so the result is bit-identical to it for a b without -0 entries.
     #[inline(always)]
-    fn forward_eliminate_four(&self, b: &mut [f64], j: usize) {
+    fn forward_eliminate_four<T: Entry>(&self, ab: &[T], b: &mut [f64], j: usize) {
         let (ldab, kl, kv) = (self.ldab, self.kl, self.ub());
-        let ab = &self.ab;
         // Entry (r, col) of L (r > col) lives at kv + r - col + col * ldab.
-        let l = |r: usize, col: usize| ab[kv + r - col + col * ldab];
+        let l = |r: usize, col: usize| ab[kv + r - col + col * ldab].f64();
         // The 4 x 4 unit lower triangle, in the column loop's order.
         let mut x = [0.0; 4];
         for m in 0..4 {
@@ -576,11 +723,10 @@ impl BandLu {
     /// the only -0 the solve itself makes is an element's own scaling by the reciprocal diagonal,
     /// after its last update.
     #[inline(always)]
-    fn back_substitute_four(&self, b: &mut [f64], c: usize) {
+    fn back_substitute_four<T: Entry>(&self, ab: &[T], b: &mut [f64], c: usize) {
         let (ldab, kv) = (self.ldab, self.ub());
-        let ab = &self.ab;
         // Entry (r, col) of U lives at kv + r - col + col * ldab.
-        let u = |r: usize, col: usize| ab[kv + r - col + col * ldab];
+        let u = |r: usize, col: usize| ab[kv + r - col + col * ldab].f64();
         // The 4 x 4 triangle, in the column loop's order.
         let mut x = [0.0; 4];
         for m in 0..4 {
@@ -620,9 +766,17 @@ impl BandLu {
     /// The column-by-column solve as it was before `back_substitute_four` (tests only).
     #[cfg(test)]
     pub(crate) fn solve_reference(&self, b: &mut [f64]) {
+        if self.ab_f32.is_empty() || self.pivoting {
+            self.solve_reference_with(&self.ab, b)
+        } else {
+            self.solve_reference_with(&self.ab_f32, b)
+        }
+    }
+
+    #[cfg(test)]
+    fn solve_reference_with<T: Entry>(&self, ab: &[T], b: &mut [f64]) {
         let (n, kl, ldab) = (self.n, self.kl, self.ldab);
         let kv = self.ub();
-        let ab = &self.ab;
         for j in 0..n.saturating_sub(1) {
             let km = kl.min(n - 1 - j);
             let l = self.ipiv[j] as usize;
@@ -633,7 +787,7 @@ impl BandLu {
             if bj != 0.0 {
                 let col = j * ldab + kv;
                 for (t, &m) in b[j + 1..=j + km].iter_mut().zip(&ab[col + 1..=col + km]) {
-                    *t -= m * bj;
+                    *t -= m.f64() * bj;
                 }
             }
         }
@@ -645,7 +799,7 @@ impl BandLu {
                 let i0 = j.saturating_sub(kv);
                 let ucol = &ab[col + kv + i0 - j..col + kv];
                 for (t, &u) in b[i0..j].iter_mut().zip(ucol) {
-                    *t -= u * bj;
+                    *t -= u.f64() * bj;
                 }
             }
         }
@@ -721,7 +875,12 @@ mod tests {
                 for r in (0..n).step_by(7) {
                     a.set_identity_row(r);
                 }
+                // Without interchanges also with the factors rounded to f32 for the solves.
+                let mut single = a.clone();
+                single.set_single_precision_solves(true);
                 a.factor().unwrap();
+                single.factor().unwrap();
+                assert_eq!(single.solves_in_single_precision(), !pivoting);
                 let pivots = a.ipiv.iter().enumerate().any(|(j, &p)| p as usize != j);
                 assert!(
                     pivots || diag > 0.0 || kl == 0,
@@ -737,19 +896,39 @@ mod tests {
                         }
                     })
                     .collect();
-                let (mut x, mut x_ref) = (b.clone(), b.clone());
-                a.solve(&mut x);
-                a.solve_reference(&mut x_ref);
-                for i in 0..n {
-                    assert_eq!(
-                        x[i].to_bits(),
-                        x_ref[i].to_bits(),
-                        "n {n}, row {i}: {} vs {}",
-                        x[i],
-                        x_ref[i]
+                let mut solutions = Vec::new();
+                for lu in [&a, &single] {
+                    let (mut x, mut x_ref) = (b.clone(), b.clone());
+                    lu.solve(&mut x);
+                    lu.solve_reference(&mut x_ref);
+                    for i in 0..n {
+                        assert_eq!(
+                            x[i].to_bits(),
+                            x_ref[i].to_bits(),
+                            "n {n}, row {i}: {} vs {}",
+                            x[i],
+                            x_ref[i]
+                        );
+                    }
+                    assert!(x.iter().any(|v| *v != 0.0));
+                    solutions.push(x);
+                }
+                // Factors rounded to f32 change a diagonally dominant system's solution by a
+                // few f32 roundings (~6e-8) relative.
+                let scale = solutions[0].iter().fold(0.0f64, |m, v| m.max(v.abs()));
+                let diff = solutions[0]
+                    .iter()
+                    .zip(&solutions[1])
+                    .fold(0.0f64, |m, (p, q)| m.max((p - q).abs()));
+                if pivoting {
+                    assert_eq!(diff, 0.0, "n {n}: pivoted factors are never rounded");
+                } else {
+                    assert!(diff <= 1e-6 * scale, "n {n}: {diff:e} of {scale:e}");
+                    assert!(
+                        diff > 0.0 || kl + ku == 0,
+                        "n {n}: the f32 factors were not used"
                     );
                 }
-                assert!(x.iter().any(|v| *v != 0.0));
             }
         }
     }
@@ -785,13 +964,90 @@ mod tests {
         let b: Vec<f64> = (0..N).map(|_| next(&mut seed)).collect();
         let (mut b_fixed, mut b_any) = (b.clone(), b.clone());
         let c = [&cols[0][..], &cols[1][..], &cols[2][..], &cols[3][..]];
-        subtract_four_columns_fixed::<N>(&mut b_fixed, c, x);
+        subtract_four_columns_fixed::<N, f64>(&mut b_fixed, c, x);
         subtract_four_columns_any(&mut b_any, c, x);
         assert!(b_fixed
             .iter()
             .zip(&b_any)
             .all(|(a, b)| a.to_bits() == b.to_bits()));
         assert_ne!(b_fixed, b);
+    }
+
+    /// Factors rounded to f32 are rebuilt when a state is read (it solves bit-identically); where
+    /// an entry does not fit in f32 the solves keep the f64 factors (the same bits as without
+    /// rounding asked for), and a factorization with pivoting is never rounded.
+    #[test]
+    fn single_precision_solves_survive_serialization_and_fall_back_to_f64() {
+        let mut seed = 21u64;
+        let (n, kl, ku) = (60, 4, 5);
+        let assemble = |scale: f64, seed: &mut u64| {
+            let mut a = BandLu::new(n, kl, ku);
+            a.set_pivoting(false);
+            a.set_single_precision_solves(true);
+            for c in 0..n {
+                for r in c.saturating_sub(ku)..(c + kl + 1).min(n) {
+                    let d = if r == c { 12.0 } else { 0.0 };
+                    a.add(r, c, scale * (next(seed) + d));
+                }
+            }
+            a
+        };
+        let b: Vec<f64> = (0..n).map(|_| next(&mut seed)).collect();
+        let mut a = assemble(1.0, &mut seed);
+        a.factor().unwrap();
+        assert!(a.solves_in_single_precision());
+        let back: BandLu = bincode::deserialize(&bincode::serialize(&a).unwrap()).unwrap();
+        assert!(back.fits(n, kl, ku) && back.solves_in_single_precision());
+        let (mut x, mut y) = (b.clone(), b.clone());
+        a.solve(&mut x);
+        back.solve(&mut y);
+        assert!(x.iter().zip(&y).all(|(p, q)| p.to_bits() == q.to_bits()));
+        // Entries of 1e39 overflow f32: the f64 factors serve.
+        let mut huge = assemble(1e39, &mut seed);
+        let mut plain = huge.clone();
+        plain.set_single_precision_solves(false);
+        huge.factor().unwrap();
+        plain.factor().unwrap();
+        assert!(!huge.solves_in_single_precision());
+        let (mut x, mut y) = (b.clone(), b.clone());
+        huge.solve(&mut x);
+        plain.solve(&mut y);
+        assert!(x.iter().zip(&y).all(|(p, q)| p.to_bits() == q.to_bits()));
+        assert!(x.iter().all(|v| v.is_finite() && *v != 0.0));
+        // A factorization serialized before the flag existed, followed by the next one (as in a
+        // film's state) is refused: the next one's size is not a bool.
+        #[derive(Serialize)]
+        struct WithoutFlag<'a> {
+            n: usize,
+            kl: usize,
+            ku: usize,
+            ldab: usize,
+            ab: &'a [f64],
+            ipiv: &'a [u32],
+            inv_diag: &'a [f64],
+            pivoting: bool,
+        }
+        let old = WithoutFlag {
+            n: a.n,
+            kl: a.kl,
+            ku: a.ku,
+            ldab: a.ldab,
+            ab: &a.ab,
+            ipiv: &a.ipiv,
+            inv_diag: &a.inv_diag,
+            pivoting: a.pivoting,
+        };
+        let mut bytes = bincode::serialize(&(&old, &old)).unwrap();
+        bytes.extend(bincode::serialize(&[1.0f64; 8]).unwrap());
+        assert!(bincode::deserialize::<(BandLu, BandLu)>(&bytes).is_err());
+        // With pivoting, never.
+        let mut pivoted = assemble(1.0, &mut seed);
+        pivoted.set_pivoting(true);
+        for c in 0..n {
+            pivoted.add(c, c, 1.0);
+        }
+        pivoted.factor().unwrap();
+        assert!(!pivoted.solves_in_single_precision());
     }
 
     /// A factorization serialized before the reciprocal diagonal existed does not fit: the
