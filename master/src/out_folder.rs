@@ -53,18 +53,52 @@ pub struct StagedSystem {
     pub path: PathBuf,
 }
 
+/// Prefix of the staged system files' names in the temporary folder.
+const STAGED_PREFIX: &str = "airring-system-";
+
 impl StagedSystem {
-    /// Writes `text` to a fresh temporary file.
+    /// Writes `text` to a fresh temporary file (and removes those that killed runs left behind).
     pub fn new(text: &str) -> Result<Self, String> {
+        let tmp = std::env::temp_dir();
+        remove_orphans(&tmp);
         let nanos = std::time::SystemTime::now()
             .duration_since(std::time::UNIX_EPOCH)
             .map_or(0, |d| d.as_nanos());
-        let path = std::env::temp_dir().join(format!(
-            "airring-system-{}-{nanos}.toml",
+        let path = tmp.join(format!(
+            "{STAGED_PREFIX}{}-{nanos}.toml",
             std::process::id()
         ));
         std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
         Ok(StagedSystem { path })
+    }
+}
+
+/// Removes the staged system files in `tmp` whose process is gone: a run killed before its
+/// run folder took the file (SIGKILL, a batch system's time limit) cannot drop it. Only where
+/// processes are visible in /proc (Linux); a file of a live process, or one whose name does not
+/// parse, is left alone.
+fn remove_orphans(tmp: &Path) {
+    let proc = Path::new("/proc");
+    if !proc.join("self").exists() {
+        return;
+    }
+    let Ok(entries) = std::fs::read_dir(tmp) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let Some(pid) = name
+            .to_str()
+            .filter(|n| n.ends_with(".toml"))
+            .and_then(|n| n.strip_prefix(STAGED_PREFIX))
+            .and_then(|rest| rest.split_once('-'))
+            .and_then(|(pid, _)| pid.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if !proc.join(pid.to_string()).exists() {
+            let _ = std::fs::remove_file(entry.path());
+        }
     }
 }
 
@@ -179,6 +213,36 @@ mod tests {
         for bad in ["", ".", "..", "../x.svg", "a/b", "a\\b"] {
             assert!(!is_plain_file_name(bad), "{bad}");
         }
+    }
+
+    /// A staged file whose process is gone is removed; one of a live process, another tool's
+    /// file and a name that does not parse stay.
+    #[test]
+    fn orphaned_staged_system_files_are_removed() {
+        if !Path::new("/proc/self").exists() {
+            return; // processes are not visible: nothing is removed (checked on Linux CI)
+        }
+        let dir = std::env::temp_dir().join(format!("airring-orphans-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        // Above Linux's largest pid (2^22): no such process.
+        let dead = format!("{STAGED_PREFIX}4294967-1.toml");
+        let live = format!("{STAGED_PREFIX}{}-2.toml", std::process::id());
+        let keep = [
+            live.as_str(),
+            "other-system-4294967-1.toml",
+            "airring-system-x-1.toml",
+            "airring-system-4294967-1.txt",
+        ];
+        for f in keep.iter().chain([&dead.as_str()]) {
+            std::fs::write(dir.join(f), "x").unwrap();
+        }
+        remove_orphans(&dir);
+        assert!(!dir.join(&dead).exists(), "{dead} left behind");
+        for f in keep {
+            assert!(dir.join(f).exists(), "{f} removed");
+        }
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 
     #[test]
