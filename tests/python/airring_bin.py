@@ -1,4 +1,4 @@
-"""The `airring` executable for the Python tests: $AIRRING, else target/release/airring, else target/debug/airring."""
+"""The `airring` executable for the Python tests: $AIRRING, else the newer of target/release/airring and target/debug/airring."""
 import os
 import pathlib
 import subprocess
@@ -9,12 +9,17 @@ ROOT = pathlib.Path(__file__).resolve().parents[2]
 
 
 def airring_exe() -> str:
+    """$AIRRING, else the most recently built of target/release/airring and target/debug/airring:
+    `cargo xtask test` builds the debug one, and a release binary left from an earlier build must
+    not be tested in its place (it would compare the packed FMUs with older library code)."""
     env = os.environ.get("AIRRING")
-    candidates = [pathlib.Path(env)] if env else []
-    candidates += [ROOT / "target" / "release" / "airring", ROOT / "target" / "debug" / "airring"]
-    for c in candidates:
-        if c.exists():
-            return str(c)
+    if env:
+        if pathlib.Path(env).exists():
+            return env
+        pytest.fail(f"AIRRING={env} does not exist")
+    built = [c for c in (ROOT / "target" / "release" / "airring", ROOT / "target" / "debug" / "airring") if c.exists()]
+    if built:
+        return str(max(built, key=lambda c: c.stat().st_mtime))
     pytest.fail("airring not found: `cargo build --release -p master` (or set AIRRING=/path/to/airring)")
 
 
