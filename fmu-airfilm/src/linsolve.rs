@@ -283,7 +283,7 @@ fn update_trailing_columns_fixed<const KM: usize>(
 
 /// An entry of stored factors, read as f64 by the solves: the factorization's own f64, or the f32
 /// copy of [`BandLu::set_single_precision_solves`].
-pub trait Entry: Copy {
+trait Entry: Copy {
     fn f64(self) -> f64;
 }
 

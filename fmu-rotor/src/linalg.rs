@@ -6,8 +6,9 @@
 //! matrix has about 134 nonzeros of 3136 and the elimination skips zero multipliers, which makes
 //! it 2.7 times faster than faer's dense `lu_in_place` on that matrix (BENCHMARKS.md, "faer
 //! (session 7)"). Since 2026-12-05 the elimination follows the nonzero pattern, held as bit masks
-//! for n <= 64 (`factor_by_masks`): another 2x on the GGL matrix (benches/linalg.rs). The triangular solves run over the factors' nonzeros only, row by row (until
-//! 2026-12-05 faer's dense solves, 1.6 times faster than plain dense loops): the GGL factors keep
+//! for n <= 64 (`factor_by_masks`): another 2x on the GGL matrix (benches/linalg.rs). The
+//! triangular solves run over the factors' nonzeros only, row by row (until 2026-12-05 faer's
+//! dense solves, 1.6 times faster than plain dense loops): the GGL factors keep
 //! most of the matrix's zeros, and a run-up solves with them at every Newton iteration. The
 //! factors are plain data, serialized as the dense factors and the pivots (the nonzero lists are
 //! rebuilt on reading), so a restored `Rotor` reuses them bit-identically. Kernel tests:
@@ -146,7 +147,7 @@ impl FactorRows {
 }
 
 impl Lu {
-    /// Factor the row-major n x n matrix `a` (consumed).
+    /// Factor the row-major n x n matrix `a` (consumed), with partial pivoting.
     ///
     /// Row k of U is final once its pivot is in place (later steps swap and update only rows
     /// below it), so its nonzeros are listed then, and the elimination updates the rows below
