@@ -132,95 +132,47 @@ pub fn predict(
             ignored.into_iter().collect::<Vec<_>>().join(", ")
         );
     }
-    for (k, spec) in study.runs.iter().enumerate() {
-        let t0 = Instant::now();
-        let mut args = spec.args.clone();
-        args.entry("mesh".into())
-            .or_insert_with(|| format!("{}x{}", mesh.0, mesh.1));
-        // A point that cannot be predicted is recorded as failed; the others go on.
-        let result = settings_for(&args).and_then(|s| {
-            let grid: Vec<f64> = speeds_hz
-                .iter()
-                .copied()
-                .filter(|f| *f <= s.f_max_hz)
-                .collect();
-            if grid.is_empty() {
-                return Err(format!(
-                    "no grid speed at or below f_max = {} Hz",
-                    s.f_max_hz
-                ));
+    // The points on all cores, each analysed on its own (the same results in any order); a
+    // point's analysis spreads its grid speeds over the cores too, but its threshold bisection
+    // is serial, and one point at a time left a core idle through it.
+    let n_points = study.runs.len();
+    let workers = std::thread::available_parallelism()
+        .map_or(1, |n| n.get())
+        .min(n_points)
+        .max(1);
+    let next = std::sync::atomic::AtomicUsize::new(0);
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let mut slots: Vec<Option<(Prediction, RunRecord)>> = (0..n_points).map(|_| None).collect();
+    std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..workers)
+            .map(|_| {
+                scope.spawn(|| {
+                    let mut mine = Vec::new();
+                    loop {
+                        let k = next.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+                        let Some(spec) = study.runs.get(k) else {
+                            break;
+                        };
+                        let (p, record) = predict_point(spec, speeds_hz, mesh);
+                        let finished = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+                        if !quiet {
+                            eprintln!("{}", progress_line(&p, finished, n_points, speeds_hz));
+                        }
+                        mine.push((k, p, record));
+                    }
+                    mine
+                })
+            })
+            .collect();
+        for h in handles {
+            for (k, p, record) in h.join().expect("prediction worker panicked") {
+                slots[k] = Some((p, record));
             }
-            stability::analyse(&s, &grid).map(|r| (s, r))
-        });
-        let (p, settings) = match result {
-            Ok((s, r)) => (
-                prediction_of(&spec.name, &s, &r, t0),
-                serde_json::to_value(&s),
-            ),
-            Err(e) => (
-                Prediction {
-                    name: spec.name.clone(),
-                    error: Some(e),
-                    unstable_below_grid: false,
-                    threshold_hz: None,
-                    mode_freq_hz: None,
-                    mode: None,
-                    n_at_f_max: f64::NAN,
-                    onset_hz: None,
-                    onset_time_s: None,
-                    wall_time_s: t0.elapsed().as_secs_f64(),
-                },
-                Ok(serde_json::Value::Null),
-            ),
-        };
-        let classification = match (&p.error, p.unstable_below_grid, p.onset_hz) {
-            (Some(_), _, _) => None,
-            // Unstable from the lowest speed analysed, as the run-up class of that name.
-            (None, true, _) => Some("unstable_low_speed"),
-            (None, false, Some(_)) => Some("unstable_linear"),
-            (None, false, None) => Some("stable"),
-        };
-        records.push(RunRecord {
-            name: spec.name.clone(),
-            index: spec.index,
-            args: spec.args.clone(),
-            status: if p.error.is_some() {
-                "failed"
-            } else {
-                "completed"
-            }
-            .into(),
-            classification: classification.map(String::from),
-            borderline: None,
-            onset_time_s: p.onset_time_s,
-            onset_speed_hz: p.onset_hz,
-            max_eps_c: None,
-            max_eps_t: None,
-            wall_time_s: Some(p.wall_time_s),
-            settings: settings.unwrap_or_default(),
-            // A prediction has no run folder.
-            dir: std::path::PathBuf::new(),
-        });
-        if !quiet {
-            let what = match (&p.error, p.unstable_below_grid) {
-                (Some(e), _) => format!("failed: {e}"),
-                (None, true) => format!("unstable already at {} Hz", speeds_hz[0]),
-                (None, false) => format!(
-                    "threshold {}, visible onset {}",
-                    p.threshold_hz
-                        .map_or("none".into(), |f| format!("{f:.0} Hz")),
-                    p.onset_hz.map_or("none".into(), |f| format!("{f:.0} Hz"))
-                ),
-            };
-            eprintln!(
-                "linear {}/{} {}: {what} ({:.1} s)",
-                k + 1,
-                study.runs.len(),
-                spec.name,
-                p.wall_time_s
-            );
         }
+    });
+    for (p, record) in slots.into_iter().flatten() {
         preds.push(p);
+        records.push(record);
     }
     write_csv(&preds, &out.join("study_linear.csv"))?;
     // The run table's format too, so `study.csv` readers can take the prediction as is.
@@ -239,6 +191,101 @@ pub fn predict(
         );
     }
     Ok((preds, maps))
+}
+
+/// One point's prediction and its row in the run table's format.
+fn predict_point(
+    spec: &crate::sweep::RunSpec,
+    speeds_hz: &[f64],
+    mesh: (u32, u32),
+) -> (Prediction, RunRecord) {
+    let t0 = Instant::now();
+    let mut args = spec.args.clone();
+    args.entry("mesh".into())
+        .or_insert_with(|| format!("{}x{}", mesh.0, mesh.1));
+    // A point that cannot be predicted is recorded as failed; the others go on.
+    let result = settings_for(&args).and_then(|s| {
+        let grid: Vec<f64> = speeds_hz
+            .iter()
+            .copied()
+            .filter(|f| *f <= s.f_max_hz)
+            .collect();
+        if grid.is_empty() {
+            return Err(format!(
+                "no grid speed at or below f_max = {} Hz",
+                s.f_max_hz
+            ));
+        }
+        stability::analyse(&s, &grid).map(|r| (s, r))
+    });
+    let (p, settings) = match result {
+        Ok((s, r)) => (
+            prediction_of(&spec.name, &s, &r, t0),
+            serde_json::to_value(&s),
+        ),
+        Err(e) => (
+            Prediction {
+                name: spec.name.clone(),
+                error: Some(e),
+                unstable_below_grid: false,
+                threshold_hz: None,
+                mode_freq_hz: None,
+                mode: None,
+                n_at_f_max: f64::NAN,
+                onset_hz: None,
+                onset_time_s: None,
+                wall_time_s: t0.elapsed().as_secs_f64(),
+            },
+            Ok(serde_json::Value::Null),
+        ),
+    };
+    let classification = match (&p.error, p.unstable_below_grid, p.onset_hz) {
+        (Some(_), _, _) => None,
+        // Unstable from the lowest speed analysed, as the run-up class of that name.
+        (None, true, _) => Some("unstable_low_speed"),
+        (None, false, Some(_)) => Some("unstable_linear"),
+        (None, false, None) => Some("stable"),
+    };
+    let record = RunRecord {
+        name: spec.name.clone(),
+        index: spec.index,
+        args: spec.args.clone(),
+        status: if p.error.is_some() {
+            "failed"
+        } else {
+            "completed"
+        }
+        .into(),
+        classification: classification.map(String::from),
+        borderline: None,
+        onset_time_s: p.onset_time_s,
+        onset_speed_hz: p.onset_hz,
+        max_eps_c: None,
+        max_eps_t: None,
+        wall_time_s: Some(p.wall_time_s),
+        settings: settings.unwrap_or_default(),
+        // A prediction has no run folder.
+        dir: std::path::PathBuf::new(),
+    };
+    (p, record)
+}
+
+/// The progress line of a finished point (`finished` of `total`).
+fn progress_line(p: &Prediction, finished: usize, total: usize, speeds_hz: &[f64]) -> String {
+    let what = match (&p.error, p.unstable_below_grid) {
+        (Some(e), _) => format!("failed: {e}"),
+        (None, true) => format!("unstable already at {} Hz", speeds_hz[0]),
+        (None, false) => format!(
+            "threshold {}, visible onset {}",
+            p.threshold_hz
+                .map_or("none".into(), |f| format!("{f:.0} Hz")),
+            p.onset_hz.map_or("none".into(), |f| format!("{f:.0} Hz"))
+        ),
+    };
+    format!(
+        "linear {finished}/{total} {}: {what} ({:.1} s)",
+        p.name, p.wall_time_s
+    )
 }
 
 /// The prediction of one point from its stability report.
