@@ -109,41 +109,84 @@ impl FactorRows {
         r
     }
 
-    /// Appends row `i` of U (the diagonal and the nonzeros right of it) from the factor's row.
+    /// Appends row `i` of U from the factor's row: the nonzeros among `cols` (ascending, right of
+    /// the diagonal; all of them or those the nonzero pattern holds), then the diagonal.
     /// A NaN entry is kept (it must reach the solution, never be skipped).
-    fn push_u_row(&mut self, i: usize, row: &[f64]) {
-        for (j, &v) in row[i + 1..].iter().enumerate() {
-            if v != 0.0 {
-                self.u_col.push((i + 1 + j) as u32);
-                self.u_val.push(v);
+    fn push_u_row(&mut self, i: usize, row: &[f64], cols: impl Iterator<Item = usize>) {
+        for j in cols {
+            if row[j] != 0.0 {
+                self.u_col.push(j as u32);
+                self.u_val.push(row[j]);
             }
         }
         self.u_start.push(self.u_col.len() as u32);
         self.diag.push(row[i]);
     }
 
-    /// Lists the nonzeros of L (the strict lower triangle of the final factors).
-    fn push_l_rows(&mut self, n: usize, lu: &[f64]) {
-        for i in 0..n {
-            for (j, &v) in lu[i * n..i * n + i].iter().enumerate() {
-                if v != 0.0 {
-                    self.l_col.push(j as u32);
-                    self.l_val.push(v);
-                }
+    /// Appends a row of L from the factor's row: the nonzeros among `cols` (ascending, left of
+    /// the diagonal).
+    fn push_l_row(&mut self, row: &[f64], cols: impl Iterator<Item = usize>) {
+        for j in cols {
+            if row[j] != 0.0 {
+                self.l_col.push(j as u32);
+                self.l_val.push(row[j]);
             }
-            self.l_start.push(self.l_col.len() as u32);
         }
+        self.l_start.push(self.l_col.len() as u32);
     }
 
     /// The lists of finished dense factors (a state read back).
     fn new(n: usize, lu: &[f64]) -> FactorRows {
         let mut r = FactorRows::with_capacity(n);
         for i in 0..n {
-            r.push_u_row(i, &lu[i * n..(i + 1) * n]);
+            r.push_u_row(i, &lu[i * n..(i + 1) * n], i + 1..n);
         }
-        r.push_l_rows(n, lu);
+        for i in 0..n {
+            r.push_l_row(&lu[i * n..(i + 1) * n], 0..i);
+        }
         r
     }
+}
+
+/// The pivot row of column k: the first largest |a(i, k)| over i = k and the rows `below`
+/// (ascending; all of them, or those the nonzero pattern holds). An exactly zero or non-finite
+/// largest entry is a singular matrix.
+fn pivot_row(
+    a: &[f64],
+    n: usize,
+    k: usize,
+    below: impl Iterator<Item = usize>,
+    what: &'static str,
+) -> Result<usize, RotorError> {
+    let mut p = k;
+    let mut best = a[k * n + k].abs();
+    for i in below {
+        let v = a[i * n + k].abs();
+        if v > best {
+            best = v;
+            p = i;
+        }
+    }
+    if best == 0.0 || !best.is_finite() {
+        return Err(RotorError::Singular(what));
+    }
+    Ok(p)
+}
+
+/// Eliminates column k from `row` with row k of U (`inv` = 1 / its diagonal, its nonzeros right
+/// of the diagonal at `u_cols`): stores the multiplier in `row[k]` and subtracts it times U's
+/// nonzeros. False (and `row[k]` = 0) if the multiplier is zero.
+fn eliminate(row: &mut [f64], k: usize, inv: f64, u_cols: &[u32], u_vals: &[f64]) -> bool {
+    let l = row[k] * inv;
+    if l == 0.0 {
+        row[k] = 0.0;
+        return false;
+    }
+    row[k] = l;
+    for (&j, &u) in u_cols.iter().zip(u_vals) {
+        row[j as usize] -= l * u;
+    }
+    true
 }
 
 impl Lu {
@@ -188,19 +231,7 @@ impl Lu {
         let mut piv = vec![0usize; n];
         let mut rows = FactorRows::with_capacity(n);
         for k in 0..n {
-            // The first largest |a(i, k)| over i >= k, in ascending rows as the dense search.
-            let mut p = k;
-            let mut best = a[k * n + k].abs();
-            for i in bits(col_nz[k] & above(k)) {
-                let v = a[i * n + k].abs();
-                if v > best {
-                    best = v;
-                    p = i;
-                }
-            }
-            if best == 0.0 || !best.is_finite() {
-                return Err(RotorError::Singular(what));
-            }
+            let p = pivot_row(&a, n, k, bits(col_nz[k] & above(k)), what)?;
             piv[k] = p;
             if p != k {
                 for j in bits(row_nz[k] | row_nz[p]) {
@@ -213,46 +244,23 @@ impl Lu {
             }
             // Row k of U is final: its nonzeros right of the diagonal, listed for the solves.
             let first = rows.u_col.len();
-            for j in bits(row_nz[k] & above(k)) {
-                let v = a[k * n + j];
-                if v != 0.0 {
-                    rows.u_col.push(j as u32);
-                    rows.u_val.push(v);
-                }
-            }
-            rows.u_start.push(rows.u_col.len() as u32);
-            rows.diag.push(a[k * n + k]);
+            rows.push_u_row(k, &a[k * n..(k + 1) * n], bits(row_nz[k] & above(k)));
             let u_cols = &rows.u_col[first..];
             let u_vals = &rows.u_val[first..];
             let u_nz = u_cols.iter().fold(0u64, |m, &j| m | 1 << j);
             let inv = 1.0 / a[k * n + k];
             for i in bits(col_nz[k] & above(k)) {
-                let row = &mut a[i * n..(i + 1) * n];
-                let l = row[k] * inv;
-                if l != 0.0 {
-                    row[k] = l;
-                    for (&j, &u) in u_cols.iter().zip(u_vals) {
-                        row[j as usize] -= l * u;
-                    }
+                if eliminate(&mut a[i * n..(i + 1) * n], k, inv, u_cols, u_vals) {
                     for j in bits(u_nz & !row_nz[i]) {
                         col_nz[j] |= 1 << i;
                     }
                     row_nz[i] |= u_nz;
-                } else {
-                    row[k] = 0.0;
                 }
             }
         }
         // L by rows, ascending columns (the strict lower triangle's nonzeros).
         for (i, &m) in row_nz.iter().enumerate().take(n) {
-            for j in bits(m & ((1u64 << i) - 1)) {
-                let v = a[i * n + j];
-                if v != 0.0 {
-                    rows.l_col.push(j as u32);
-                    rows.l_val.push(v);
-                }
-            }
-            rows.l_start.push(rows.l_col.len() as u32);
+            rows.push_l_row(&a[i * n..(i + 1) * n], bits(m & ((1u64 << i) - 1)));
         }
         Ok(Lu {
             n,
@@ -267,18 +275,7 @@ impl Lu {
         let mut piv = vec![0usize; n];
         let mut rows = FactorRows::with_capacity(n);
         for k in 0..n {
-            let mut p = k;
-            let mut best = a[k * n + k].abs();
-            for i in k + 1..n {
-                let v = a[i * n + k].abs();
-                if v > best {
-                    best = v;
-                    p = i;
-                }
-            }
-            if best == 0.0 || !best.is_finite() {
-                return Err(RotorError::Singular(what));
-            }
+            let p = pivot_row(&a, n, k, k + 1..n, what)?;
             piv[k] = p;
             if p != k {
                 for j in 0..n {
@@ -286,24 +283,17 @@ impl Lu {
                 }
             }
             let first = rows.u_col.len();
-            rows.push_u_row(k, &a[k * n..(k + 1) * n]);
+            rows.push_u_row(k, &a[k * n..(k + 1) * n], k + 1..n);
             let u_cols = &rows.u_col[first..];
             let u_vals = &rows.u_val[first..];
             let inv = 1.0 / a[k * n + k];
             for i in k + 1..n {
-                let row = &mut a[i * n..(i + 1) * n];
-                let l = row[k] * inv;
-                if l != 0.0 {
-                    row[k] = l;
-                    for (&j, &u) in u_cols.iter().zip(u_vals) {
-                        row[j as usize] -= l * u;
-                    }
-                } else {
-                    row[k] = 0.0;
-                }
+                eliminate(&mut a[i * n..(i + 1) * n], k, inv, u_cols, u_vals);
             }
         }
-        rows.push_l_rows(n, &a);
+        for i in 0..n {
+            rows.push_l_row(&a[i * n..(i + 1) * n], 0..i);
+        }
         Ok(Lu {
             n,
             lu: a,

@@ -113,6 +113,26 @@ fn a_bad_contact_geometry_is_reported_under_the_rotor_parameter_name() {
     assert!(e.contains("bearing_C"), "{e}");
 }
 
+/// The paper rotor with its ring contacts, moved `dy_m` in y and tilted `tilt_rad` about x from
+/// its initial state, every coordinate moving (its system, positions and velocities).
+fn rotor_against_its_rings(
+    dy_m: f64,
+    tilt_rad: f64,
+) -> (fmu_rotor::system::MultibodySystem, Vec<f64>, Vec<f64>) {
+    use fmu_rotor::rotor::{build_system, initial_state};
+    let p = RotorParams {
+        contact: Some([BoreContact::paper(), BoreContact::paper()]),
+        ..RotorParams::paper()
+    };
+    let (mut x, mut v) = initial_state(&p);
+    x[1] += dy_m;
+    x[3] += tilt_rad;
+    for (i, vi) in v.iter_mut().enumerate() {
+        *vi += 1e-3 * (i as f64 + 1.0).sin();
+    }
+    (build_system(&p, None), x, v)
+}
+
 /// The force Jacobians' velocity columns leave the ring contact out (it depends on positions
 /// alone, so it cancels in their difference quotients): with both journals pressed into their
 /// rings they equal difference quotients of the whole force vector, to the quotients' own
@@ -120,20 +140,11 @@ fn a_bad_contact_geometry_is_reported_under_the_rotor_parameter_name() {
 #[test]
 fn velocity_columns_without_the_contact_equal_those_of_the_whole_force() {
     use fmu_rotor::ggl::{force_jacobians, Work};
-    use fmu_rotor::rotor::{build_system, initial_state, N_INPUTS};
+    use fmu_rotor::rotor::N_INPUTS;
     use fmu_rotor::system::RingContacts;
-    let p = RotorParams {
-        contact: Some([BoreContact::paper(), BoreContact::paper()]),
-        ..RotorParams::paper()
-    };
-    let sys = build_system(&p, None);
-    let nq = sys.n_coords();
-    let (mut x, mut v) = initial_state(&p);
     // The rotor 3 C below its rings (beyond the lobes' steps of 2 C), moving and spinning.
-    x[1] -= 3.0 * Bore::paper().c_m;
-    for (i, vi) in v.iter_mut().enumerate() {
-        *vi += 1e-3 * (i as f64 + 1.0).sin();
-    }
+    let (sys, x, v) = rotor_against_its_rings(-3.0 * Bore::paper().c_m, 0.0);
+    let nq = sys.n_coords();
     let u = [0.0; N_INPUTS];
     let mut work = Work::new(sys.bodies.len());
     let (mut with, mut without) = (vec![0.0; nq], vec![0.0; nq]);
@@ -187,25 +198,15 @@ fn velocity_columns_without_the_contact_equal_those_of_the_whole_force() {
 #[test]
 fn position_columns_reusing_unmoved_contacts_equal_full_evaluations_bit_for_bit() {
     use fmu_rotor::ggl::{force_jacobians, Work};
-    use fmu_rotor::rotor::{build_system, initial_state, N_INPUTS};
-    let p = RotorParams {
-        contact: Some([BoreContact::paper(), BoreContact::paper()]),
-        ..RotorParams::paper()
-    };
-    let sys = build_system(&p, None);
-    let nq = sys.n_coords();
+    use fmu_rotor::rotor::N_INPUTS;
     let c = Bore::paper().c_m;
     // Pressed: the rotor 3 C below its rings; tilted: one journal in, the other one free.
     for (label, dy, tilt) in [
         ("both pressed", -3.0 * c, 0.0),
         ("one pressed", -1.5 * c, 1e-4),
     ] {
-        let (mut x, mut v) = initial_state(&p);
-        x[1] += dy;
-        x[3] += tilt;
-        for (i, vi) in v.iter_mut().enumerate() {
-            *vi += 1e-3 * (i as f64 + 1.0).sin();
-        }
+        let (sys, x, v) = rotor_against_its_rings(dy, tilt);
+        let nq = sys.n_coords();
         let u = [0.0; N_INPUTS];
         let mut work = Work::new(sys.bodies.len());
         let (fx, _, _) = force_jacobians(&sys, &x, &v, &u, &mut work);
