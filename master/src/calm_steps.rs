@@ -22,6 +22,7 @@
 //! 7 Hz. There the macro-step control rejects a 100 us step within milliseconds, and the run
 //! (`cosim::execution`) closes the window at the first rejected or discarded step in it.
 
+use crate::linear_cache::LinearCache;
 use crate::runup::RunupSettings;
 use crate::stability::{params_of, per_speed};
 use fmu_rotor::params::SpeedProfile;
@@ -57,8 +58,9 @@ pub struct CalmPlan {
 }
 
 /// The calm window of a run-up with `s`'s parameters and speed profile, its film coefficients on
-/// the coarse mesh of the linear predictions (`sweep_linear::DEFAULT_MESH`).
-pub fn plan(s: &RunupSettings) -> CalmPlan {
+/// the coarse mesh of the linear predictions (`sweep_linear::DEFAULT_MESH`). Speeds found in
+/// `cache` are not analysed again; the ones analysed here are added to it.
+pub fn plan(s: &RunupSettings, cache: Option<&LinearCache>) -> CalmPlan {
     let t0 = std::time::Instant::now();
     let mut coarse = s.clone();
     (coarse.n_elem_phi, coarse.n_elem_z) = crate::sweep_linear::DEFAULT_MESH;
@@ -92,10 +94,37 @@ pub fn plan(s: &RunupSettings) -> CalmPlan {
     let (least_damping, windows_s) = batched_calm_window(
         &speeds,
         |chunk| {
-            per_speed(&rotor, &films, chunk)
+            let known: Vec<Option<Option<f64>>> = chunk
+                .iter()
+                .map(|&f| cache.and_then(|c| c.get(&rotor, &films, f)))
+                .collect();
+            let missing: Vec<f64> = chunk
+                .iter()
+                .zip(&known)
+                .filter(|(_, k)| k.is_none())
+                .map(|(&f, _)| f)
+                .collect();
+            let mut analysed = per_speed(&rotor, &films, &missing)
                 .into_iter()
-                .map(|r| r.ok().map(|(res, _)| least_damping_ratio(&res)))
-                .collect()
+                .map(|r| r.ok().map(|(res, _)| least_damping_ratio(&res)));
+            let mut cache_note = None;
+            let ratios = chunk
+                .iter()
+                .zip(known)
+                .map(|(&f, k)| {
+                    k.unwrap_or_else(|| {
+                        let z = analysed.next().expect("one result per missing speed");
+                        if let Some(Err(e)) = cache.map(|c| c.put(&rotor, &films, f, z)) {
+                            cache_note.get_or_insert(e);
+                        }
+                        z
+                    })
+                })
+                .collect();
+            if let Some(e) = cache_note {
+                eprintln!("warning: linear analyses not kept for reuse: {e}");
+            }
+            ratios
         },
         speed_hz,
         s.stop_time_s,
@@ -127,7 +156,7 @@ pub fn describe(plan: &CalmPlan, calm_macro_step_us: f64) -> String {
 
 /// Least damping ratio over the oscillating modes; -1 for a static divergence (a positive real
 /// eigenvalue).
-fn least_damping_ratio(r: &crate::stability::SpeedResult) -> f64 {
+pub(crate) fn least_damping_ratio(r: &crate::stability::SpeedResult) -> f64 {
     if r.real_eigenvalues_per_s.iter().any(|&re| re > 0.0) {
         return -1.0;
     }
@@ -247,6 +276,62 @@ fn first_calm_window_upto(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A sweep's prediction fills the cache under the keys its run-ups look up (the same model
+    /// parameters from a study point's flags either way), and a plan from the cache is the plan
+    /// without it, bit for bit; the speeds the prediction did not analyse are added.
+    #[test]
+    fn a_plan_reuses_the_predictions_analyses_and_is_unchanged_by_them() {
+        let mut args = std::collections::BTreeMap::new();
+        for (k, v) in [
+            ("preset", "path1"),
+            ("clearance", "20"),
+            ("dh", "40"),
+            ("c", "1000"),
+            ("d", "500"),
+            ("rotor.disturbance_seed", "3"),
+            ("stop", "0.3"),
+        ] {
+            args.insert(k.to_string(), v.to_string());
+        }
+        let spec = crate::sweep::RunSpec {
+            index: 0,
+            name: "point".into(),
+            args: args.clone(),
+            grids: vec![],
+        };
+        let runup = crate::runup_cli::check_argv(&crate::sweep::runup_args(&args)).unwrap();
+        let dir = std::env::temp_dir().join(format!("airring-calm-cache-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let cache = LinearCache::open_for_build(&dir, "test").unwrap();
+        let entries = || std::fs::read_dir(&dir).unwrap().count();
+        let (p, _) = crate::sweep_linear::predict_point(
+            &spec,
+            &[100.0, 200.0],
+            crate::sweep_linear::DEFAULT_MESH,
+            Some(&cache),
+        );
+        assert!(p.error.is_none(), "{:?}", p.error);
+        assert_eq!(entries(), 2);
+        // 0.3 s of the ramp reaches 200 Hz: 50, 100, 150 and 200 Hz; two found, two analysed.
+        let cached = plan(&runup, Some(&cache));
+        assert_eq!(entries(), 4);
+        let fresh = plan(&runup, None);
+        assert_eq!(fresh.least_damping.len(), 4);
+        let bits = |p: &CalmPlan| -> Vec<(u64, Option<u64>)> {
+            p.least_damping
+                .iter()
+                .map(|(f, z)| (f.to_bits(), z.map(f64::to_bits)))
+                .collect()
+        };
+        assert_eq!(bits(&cached), bits(&fresh));
+        assert_eq!(cached.windows_s, fresh.windows_s);
+        assert!(!fresh.windows_s.is_empty(), "{fresh:?}");
+        // A plan from the full cache: the same values, no new entries.
+        assert_eq!(bits(&plan(&runup, Some(&cache))), bits(&fresh));
+        assert_eq!(entries(), 4);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
 
     #[test]
     fn the_window_is_the_first_calm_stretch_only() {

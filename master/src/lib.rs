@@ -7,6 +7,7 @@ pub mod calm_steps;
 pub mod design;
 pub mod export_ssp;
 pub mod fmu_params;
+pub mod linear_cache;
 pub mod modal;
 pub mod orbit;
 pub mod orbits;

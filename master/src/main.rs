@@ -337,7 +337,7 @@ fn linear_sweep_command(
         Some(m) => master::runup::parse_mesh(m, "--linear-mesh")?,
     };
     let out = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name)));
-    let (preds, maps) = master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet)?;
+    let (preds, maps) = master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet, None)?;
     eprintln!(
         "linear prediction: {} points -> {}, {}",
         preds.len(),
@@ -387,7 +387,9 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
             None => master::sweep_linear::DEFAULT_MESH,
             Some(m) => master::runup::parse_mesh(m, "--linear-mesh")?,
         };
-        let (preds, _) = master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet)?;
+        let cache = master::linear_cache::LinearCache::open(&sweep::linear_cache_dir(&out))?;
+        let (preds, _) =
+            master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet, Some(&cache))?;
         master::sweep_linear::longest_first(&mut study, &preds);
     }
     let opts = sweep::SweepOptions {
@@ -449,7 +451,11 @@ fn main() -> ExitCode {
             let mut s = master::runup_cli::settings(&args)?;
             s.validate_runup()?;
             if let (Some(calm_us), Some(_)) = (s.calm_macro_step_us, s.calm_factor()) {
-                let plan = master::calm_steps::plan(&s);
+                let cache = match &args.linear_cache {
+                    Some(d) => Some(master::linear_cache::LinearCache::open(d)?),
+                    None => None,
+                };
+                let plan = master::calm_steps::plan(&s, cache.as_ref());
                 s.calm_windows_s = plan.windows_s.clone();
                 eprintln!("{}", master::calm_steps::describe(&plan, calm_us));
             }

@@ -79,6 +79,11 @@ pub struct RunupArgs {
     /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
     #[arg(long)]
     pub fmu_dir: Option<PathBuf>,
+    /// Folder of linear analyses to reuse and add to when planning the calm macro steps: speeds
+    /// already analysed there with the same parameters by this build are not analysed again (a
+    /// sweep passes its own, which its --predict-first fills).
+    #[arg(long)]
+    pub linear_cache: Option<PathBuf>,
 }
 
 /// "0:0,1.5:2000" -> [(0, 0), (1.5, 2000)]; the table's own checks follow in `validate`.

@@ -8,6 +8,7 @@
 //! to f_max is predicted stable. The linear model cannot tell path 1 from 2a or 2b (that is the
 //! nonlinear behaviour after onset); its cells read "unstable (linear)".
 
+use crate::linear_cache::LinearCache;
 use crate::runup::RunupSettings;
 use crate::stability::{self, StabilityReport};
 use crate::sweep::{plot_grid_maps, plot_maps, write_table, RunRecord, Study};
@@ -107,13 +108,15 @@ pub struct Prediction {
 }
 
 /// Predicts every point of `study` on the speed grid `speeds_hz`; writes `study_linear.csv` and
-/// `bifurcation_map_linear.svg/.png` into `out`. Progress on stderr unless `quiet`.
+/// `bifurcation_map_linear.svg/.png` into `out`. Progress on stderr unless `quiet`. The grid
+/// speeds' least damping ratios go into `cache`, for the run-ups' calm-step plans.
 pub fn predict(
     study: &Study,
     speeds_hz: &[f64],
     mesh: (u32, u32),
     out: &Path,
     quiet: bool,
+    cache: Option<&LinearCache>,
 ) -> Result<(Vec<Prediction>, Vec<PathBuf>), String> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let start = Instant::now();
@@ -153,7 +156,7 @@ pub fn predict(
                         let Some(spec) = study.runs.get(k) else {
                             break;
                         };
-                        let (p, record) = predict_point(spec, speeds_hz, mesh);
+                        let (p, record) = predict_point(spec, speeds_hz, mesh, cache);
                         let finished = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
                         if !quiet {
                             eprintln!("{}", progress_line(&p, finished, n_points, speeds_hz));
@@ -194,10 +197,11 @@ pub fn predict(
 }
 
 /// One point's prediction and its row in the run table's format.
-fn predict_point(
+pub(crate) fn predict_point(
     spec: &crate::sweep::RunSpec,
     speeds_hz: &[f64],
     mesh: (u32, u32),
+    cache: Option<&LinearCache>,
 ) -> (Prediction, RunRecord) {
     let t0 = Instant::now();
     let mut args = spec.args.clone();
@@ -216,7 +220,11 @@ fn predict_point(
                 s.f_max_hz
             ));
         }
-        stability::analyse(&s, &grid).map(|r| (s, r))
+        let report = stability::analyse(&s, &grid)?;
+        if let Some(cache) = cache {
+            keep_for_calm_plans(cache, &s, &report);
+        }
+        Ok((s, report))
     });
     let (p, settings) = match result {
         Ok((s, r)) => (
@@ -268,6 +276,22 @@ fn predict_point(
         dir: std::path::PathBuf::new(),
     };
     (p, record)
+}
+
+/// The least damping ratio of every grid speed of `report` into `cache`. A point whose mesh is
+/// not the calm plans' (`DEFAULT_MESH`) has other film parameters, so its entries are never read;
+/// a cache that cannot be written only costs the run-ups time (a warning).
+fn keep_for_calm_plans(cache: &LinearCache, s: &RunupSettings, report: &StabilityReport) {
+    let Ok((rotor, films)) = stability::params_of(s) else {
+        return;
+    };
+    for r in &report.speeds {
+        let z = crate::calm_steps::least_damping_ratio(r);
+        if let Err(e) = cache.put(&rotor, &films, r.speed_hz, Some(z)) {
+            eprintln!("warning: linear analyses not kept for reuse: {e}");
+            return;
+        }
+    }
 }
 
 /// The progress line of a finished point (`finished` of `total`).

@@ -25,7 +25,7 @@ fn path1_speed_hz(t: f64) -> f64 {
 #[test]
 fn path_1_is_calm_until_its_least_damped_mode_falls_to_two_percent() {
     let s = settings("path1", |_| {});
-    let p = plan(&s);
+    let p = plan(&s, None);
     assert!(p.note.is_none(), "{:?}", p.note);
     assert_eq!(p.windows_s.len(), 1, "{p:?}");
     let (a, b) = p.windows_s[0];
@@ -61,7 +61,7 @@ fn a_design_stable_throughout_is_calm_to_the_end() {
     let s = settings("path1", |s| {
         (s.clearance_um, s.dh_um, s.d_n_s_per_m) = (10.0, 20.0, 500.0);
     });
-    let p = plan(&s);
+    let p = plan(&s, None);
     assert_eq!(p.windows_s.len(), 1, "{p:?}");
     assert_eq!(p.windows_s[0].1, s.stop_time_s);
     assert!(p
@@ -79,7 +79,7 @@ fn a_journal_riding_on_its_ring_closes_the_calm_window_at_once() {
         let s = settings("path1", |s| {
             (s.clearance_um, s.dh_um, s.d_n_s_per_m) = (15.0, 0.0, d.parse().unwrap());
         });
-        let planned = plan(&s).windows_s;
+        let planned = plan(&s, None).windows_s;
         assert!(
             planned.len() == 1 && (planned[0].1 - plan_end_s).abs() < 2e-3,
             "d = {d}: {planned:?}"

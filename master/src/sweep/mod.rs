@@ -61,6 +61,12 @@ pub struct SweepOptions {
     pub checkpoint_every_s: Option<f64>,
 }
 
+/// The folder of linear analyses a sweep into `out` shares among its prediction and run-ups
+/// (`crate::linear_cache`).
+pub fn linear_cache_dir(out: &Path) -> PathBuf {
+    out.join("linear_cache")
+}
+
 /// Cores available to this process.
 pub fn cores() -> usize {
     std::thread::available_parallelism()
@@ -178,6 +184,7 @@ fn start_run(spec: &RunSpec, opts: &SweepOptions) -> Result<Running, String> {
             cmd.arg("--serial-films");
         }
         cmd.arg("--out").arg(&dir);
+        cmd.arg("--linear-cache").arg(linear_cache_dir(&opts.out));
     }
     if let Some(dt) = opts.checkpoint_every_s {
         cmd.arg("--checkpoint-every").arg(dt.to_string());
