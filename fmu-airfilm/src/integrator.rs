@@ -1163,7 +1163,7 @@ mod tests {
         let n_lobes = prm.bore.n_lobes;
         let h = 1e-4;
         let mut f = AirFilm::new(prm).unwrap();
-        let mut run =
+        let run =
             |f: &mut AirFilm, steps: std::ops::Range<usize>, j: &dyn Fn(f64) -> JournalState| {
                 for k in steps {
                     f.advance(k as f64 * h, h, j).unwrap();
