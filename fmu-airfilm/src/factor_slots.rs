@@ -7,27 +7,16 @@
 //! large whirl: 50, 25 + 25, 50, ...), so c0 jumps by ~2x at every switch. With one factorized
 //! matrix per lobe, every switch refactored all lobes. Each lobe therefore keeps
 //! [`SLOTS_PER_LOBE`] factorized matrices; a sub-step uses the one whose c0 is nearest its own,
-//! as long as it is within [`C0_RATIO_RANGE`] and not condemned, and refactors only when none
-//! is: into an empty slot, else into the condemned one nearest in c0 (it served this step size),
-//! else into the least recently used one (a step size no longer taken, e.g. the start-up's;
-//! never the matrix of the other size of an alternation).
-//!
-//! A matrix at the age limit or older is not refactorized for its age alone: the sub-step that
-//! uses it probes it (`SlotChoice::probe`), iterating at least twice to measure its contraction
-//! rate, and the integrator renews its age if the rate is still good and condemns it
-//! ([`CONDEMNED`]) if not. Until 2026-12-05 every matrix was refactorized at the age limit (40
-//! sub-steps): at a quiet equilibrium that was ~12 % of the film's time, for matrices that still
-//! converged in one iteration.
+//! as long as it is within [`C0_RATIO_RANGE`] and younger than the age limit, and refactors only
+//! when none is: into an empty slot, else into the one past the age limit nearest in c0 (it
+//! served this step size), else into the least recently used one (a step size no longer taken,
+//! e.g. the start-up's; never the matrix of the other size of an alternation).
 
 /// Factorized Newton matrices kept per lobe.
 pub const SLOTS_PER_LOBE: usize = 2;
 
 /// A factorized matrix serves a sub-step whose c0 over the matrix's c0 lies in this range.
 pub const C0_RATIO_RANGE: std::ops::RangeInclusive<f64> = 0.67..=1.5;
-
-/// The age of a matrix that must not be used again (a slow or failed probe, a slow solve): the
-/// next sub-step that needs its slot refactorizes it. Accepted sub-steps keep it (saturating).
-pub const CONDEMNED: u32 = u32::MAX;
 
 /// What one slot holds, as the policy sees it.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -49,17 +38,15 @@ pub struct SlotChoice {
     pub slot: usize,
     /// The matrix must be assembled and factorized (again) before use.
     pub refactor: bool,
-    /// The matrix is at the age limit or older: measure its contraction rate in this sub-step.
-    pub probe: bool,
 }
 
 /// Chooses the slot for a sub-step with coefficient `c0_per_s` among one lobe's `slots`;
-/// matrices at `max_age` or older are probed, condemned ones not used.
+/// matrices at `max_age` or older are not used.
 pub fn choose(slots: &[SlotInfo], c0_per_s: f64, max_age: u32) -> SlotChoice {
     // |ln ratio|: a matrix at half the c0 is as far as one at twice it.
     let distance = |s: &SlotInfo| (c0_per_s / s.c0_per_s).ln().abs();
     let usable = |s: &SlotInfo| {
-        s.valid && s.age != CONDEMNED && C0_RATIO_RANGE.contains(&(c0_per_s / s.c0_per_s))
+        s.valid && s.age < max_age && C0_RATIO_RANGE.contains(&(c0_per_s / s.c0_per_s))
     };
     let nearest = |pred: &dyn Fn(&SlotInfo) -> bool| {
         slots
@@ -73,7 +60,6 @@ pub fn choose(slots: &[SlotInfo], c0_per_s: f64, max_age: u32) -> SlotChoice {
         return SlotChoice {
             slot,
             refactor: false,
-            probe: slots[slot].age >= max_age,
         };
     }
     let least_recently_used = || {
@@ -86,13 +72,12 @@ pub fn choose(slots: &[SlotInfo], c0_per_s: f64, max_age: u32) -> SlotChoice {
     let slot = slots
         .iter()
         .position(|s| !s.valid)
-        .or_else(|| nearest(&|s| s.age == CONDEMNED))
+        .or_else(|| nearest(&|s| s.age >= max_age))
         .or_else(least_recently_used)
         .expect("a lobe has at least one slot");
     SlotChoice {
         slot,
         refactor: true,
-        probe: false,
     }
 }
 
@@ -124,21 +109,12 @@ mod tests {
         SlotChoice {
             slot,
             refactor: false,
-            probe: false,
-        }
-    }
-    fn probe(slot: usize) -> SlotChoice {
-        SlotChoice {
-            slot,
-            refactor: false,
-            probe: true,
         }
     }
     fn refactor(slot: usize) -> SlotChoice {
         SlotChoice {
             slot,
             refactor: true,
-            probe: false,
         }
     }
 
@@ -177,17 +153,10 @@ mod tests {
     }
 
     #[test]
-    fn an_old_matrix_is_probed_and_a_condemned_one_refactorized_in_place() {
+    fn an_old_matrix_is_refactorized_in_place_and_the_other_size_kept() {
         // Slot 0 is at the age limit; slot 1 serves the other step size.
         let slots = [slot(3e4, MAX_AGE), slot(6e4, 2)];
-        assert_eq!(choose(&slots, 3e4, MAX_AGE), probe(0));
-        assert_eq!(choose(&slots, 6e4, MAX_AGE), reuse(1));
-        // Condemned (a slow probe or solve): refactorized, the other size kept.
-        let slots = [slot(3e4, CONDEMNED), slot(6e4, 2)];
         assert_eq!(choose(&slots, 3e4, MAX_AGE), refactor(0));
-        // An old matrix in range is probed before a younger one out of range is used.
-        let slots = [slot(3e4, MAX_AGE + 7), slot(6e4, 0)];
-        assert_eq!(choose(&slots, 3.5e4, MAX_AGE), probe(0));
     }
 
     #[test]
@@ -196,15 +165,15 @@ mod tests {
         // was used last. A 25 us step (c0 5.33e4, nearer to slot 1's) evicts the start-up's.
         let slots = [used(1, slot(2e5, 3)), used(0, slot(3.33e4, 0))];
         assert_eq!(choose(&slots, 5.33e4, MAX_AGE), refactor(0));
-        // Once condemned, a matrix goes first even if it was used more recently.
-        let slots = [used(0, slot(1e7, CONDEMNED)), used(1, slot(3.33e4, 1))];
+        // Once old, an unused matrix goes first even if it was used more recently.
+        let slots = [used(0, slot(1e7, MAX_AGE)), used(1, slot(3.33e4, 1))];
         assert_eq!(choose(&slots, 6e4, MAX_AGE), refactor(0));
     }
 
     #[test]
-    fn a_condemned_matrix_goes_before_the_least_recently_used_one() {
-        // Slot 0 (50 us) just used and condemned; slot 1 (25 us) used a step before.
-        let slots = [used(0, slot(3.33e4, CONDEMNED)), used(1, slot(6e4, 5))];
+    fn an_old_matrix_goes_before_the_least_recently_used_one() {
+        // Slot 0 (50 us) just used and at the age limit; slot 1 (25 us) used a step before.
+        let slots = [used(0, slot(3.33e4, MAX_AGE)), used(1, slot(6e4, 5))];
         assert_eq!(choose(&slots, 3.33e4, MAX_AGE), refactor(0));
     }
 
@@ -229,8 +198,7 @@ mod tests {
     #[test]
     fn one_slot_behaves_like_a_single_matrix() {
         assert_eq!(choose(&[slot(3e4, 39)], 3.1e4, MAX_AGE), reuse(0));
-        assert_eq!(choose(&[slot(3e4, 40)], 3.1e4, MAX_AGE), probe(0));
-        assert_eq!(choose(&[slot(3e4, CONDEMNED)], 3.1e4, MAX_AGE), refactor(0));
+        assert_eq!(choose(&[slot(3e4, 40)], 3.1e4, MAX_AGE), refactor(0));
         assert_eq!(choose(&[slot(3e4, 0)], 6e4, MAX_AGE), refactor(0));
     }
 }
