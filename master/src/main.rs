@@ -387,9 +387,11 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
             None => master::sweep_linear::DEFAULT_MESH,
             Some(m) => master::runup::parse_mesh(m, "--linear-mesh")?,
         };
-        let cache = master::linear_cache::LinearCache::open(&sweep::linear_cache_dir(&out))?;
+        let cache = master::linear_cache::LinearCache::open(&sweep::linear_cache_dir(&out))
+            .map_err(|e| eprintln!("warning: the prediction's analyses are not kept: {e}"))
+            .ok();
         let (preds, _) =
-            master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet, Some(&cache))?;
+            master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet, cache.as_ref())?;
         master::sweep_linear::longest_first(&mut study, &preds);
     }
     let opts = sweep::SweepOptions {
@@ -451,10 +453,12 @@ fn main() -> ExitCode {
             let mut s = master::runup_cli::settings(&args)?;
             s.validate_runup()?;
             if let (Some(calm_us), Some(_)) = (s.calm_macro_step_us, s.calm_factor()) {
-                let cache = match &args.linear_cache {
-                    Some(d) => Some(master::linear_cache::LinearCache::open(d)?),
-                    None => None,
-                };
+                // A cache that cannot be opened only makes the plan slower.
+                let cache = args.linear_cache.as_deref().and_then(|d| {
+                    master::linear_cache::LinearCache::open(d)
+                        .map_err(|e| eprintln!("warning: --linear-cache not used: {e}"))
+                        .ok()
+                });
                 let plan = master::calm_steps::plan(&s, cache.as_ref());
                 s.calm_windows_s = plan.windows_s.clone();
                 eprintln!("{}", master::calm_steps::describe(&plan, calm_us));
