@@ -148,23 +148,36 @@ impl FilmLinearization {
         let kl2 = 2 * mesh.kl + 1;
         let ku2 = 2 * mesh.ku + 1;
         let mut rhs = vec![0.0; 2 * npb];
+        let mut a = BandLu::new(2 * npb, kl2, ku2);
         for (k, b) in self.blocks.iter().enumerate() {
-            let mut a = BandLu::new(2 * npb, kl2, ku2);
-            for r in 0..npb {
-                let c_lo = r.saturating_sub(mesh.kl);
-                let c_hi = (r + mesh.ku).min(npb - 1);
-                for c in c_lo..=c_hi {
-                    let jv = b.j.get(r, c);
-                    let mv = nu * b.m.get(r, c);
-                    a.add(2 * r, 2 * c, jv);
-                    a.add(2 * r + 1, 2 * c + 1, jv);
-                    if mv != 0.0 {
-                        a.add(2 * r, 2 * c + 1, -mv);
-                        a.add(2 * r + 1, 2 * c, mv);
+            // Without row interchanges first, as the integrator's Newton matrices: a narrower
+            // band to eliminate (the linear analysis spent half its time in these pivoted
+            // factorizations); where that is not stable (`linsolve::GROWTH_LIMIT`), assembled
+            // again and factorized with partial pivoting.
+            let mut factored = Err(crate::linsolve::FactorError::ZeroPivot { row: 0 });
+            for pivoting in [false, true] {
+                a.set_pivoting(pivoting);
+                a.zero();
+                for r in 0..npb {
+                    let c_lo = r.saturating_sub(mesh.kl);
+                    let c_hi = (r + mesh.ku).min(npb - 1);
+                    for c in c_lo..=c_hi {
+                        let jv = b.j.get(r, c);
+                        let mv = nu * b.m.get(r, c);
+                        a.add(2 * r, 2 * c, jv);
+                        a.add(2 * r + 1, 2 * c + 1, jv);
+                        if mv != 0.0 {
+                            a.add(2 * r, 2 * c + 1, -mv);
+                            a.add(2 * r + 1, 2 * c, mv);
+                        }
                     }
                 }
+                factored = a.factor();
+                if factored.is_ok() {
+                    break;
+                }
             }
-            a.factor().map_err(|e| FilmError::SingularMatrix {
+            factored.map_err(|e| FilmError::SingularMatrix {
                 lobe: k,
                 row: e.row(a.n),
             })?;
