@@ -278,10 +278,14 @@ pub(crate) fn predict_point(
     (p, record)
 }
 
-/// The least damping ratio of every grid speed of `report` into `cache`. A point whose mesh is
-/// not the calm plans' (`DEFAULT_MESH`) has other film parameters, so its entries are never read;
-/// a cache that cannot be written only costs the run-ups time (a warning).
+/// The least damping ratio of every grid speed of `report` into `cache`. A point predicted on
+/// another mesh than the calm plans' (`DEFAULT_MESH`) has other film parameters, whose entries no
+/// plan would read: none are kept. A cache that cannot be written only costs the run-ups time (a
+/// warning).
 fn keep_for_calm_plans(cache: &LinearCache, s: &RunupSettings, report: &StabilityReport) {
+    if (s.n_elem_phi, s.n_elem_z) != DEFAULT_MESH {
+        return;
+    }
     let Ok((rotor, films)) = stability::params_of(s) else {
         return;
     };
