@@ -154,9 +154,7 @@ impl FilmLinearization {
             // band to eliminate (the linear analysis spent half its time in these pivoted
             // factorizations); where that is not stable (`linsolve::GROWTH_LIMIT`), assembled
             // again and factorized with partial pivoting.
-            let mut factored = Err(crate::linsolve::FactorError::ZeroPivot { row: 0 });
-            for pivoting in [false, true] {
-                a.set_pivoting(pivoting);
+            let factored = a.assemble_and_factor(|a| {
                 a.zero();
                 for r in 0..npb {
                     let c_lo = r.saturating_sub(mesh.kl);
@@ -172,11 +170,7 @@ impl FilmLinearization {
                         }
                     }
                 }
-                factored = a.factor();
-                if factored.is_ok() {
-                    break;
-                }
-            }
+            });
             factored.map_err(|e| FilmError::SingularMatrix {
                 lobe: k,
                 row: e.row(a.n),

@@ -18,7 +18,7 @@ use crate::error::FilmError;
 use crate::factor_slots::{self, SlotInfo, SLOTS_PER_LOBE};
 use crate::forces::{self, FilmOutputs};
 use crate::geometry::{min_gap_m, GapField, Geometry};
-use crate::linsolve::{BandLu, FactorError};
+use crate::linsolve::BandLu;
 use crate::mesh::Mesh;
 use crate::params::BearingParams;
 use crate::reynolds::{self, Coeffs};
@@ -656,22 +656,18 @@ impl AirFilm {
                     // stream through, and stable on every Newton matrix seen (linsolve.rs,
                     // GROWTH_LIMIT). Where it is not, the matrix is assembled again and
                     // factorized with partial pivoting.
-                    let mut factored = Err(FactorError::ZeroPivot { row: 0 });
-                    for pivoting in [false, true] {
-                        let lu = matrix_to_refactor(&mut self.lu[m], &mut s.spare_lu, &self.mesh);
-                        lu.set_pivoting(pivoting);
-                        // Modified Newton: the solves stream the factors at every iteration, and
-                        // f32 halves that traffic (path 1 to 1.6 s with serial films 0.895; the
-                        // Newton and Jacobian counts the same, the onset 1e-10 s apart).
-                        lu.set_single_precision_solves(true);
-                        reynolds::jacobian(&self.mesh, &s.gap, k, co, &s.p_new[r.clone()], lu);
-                        self.lu_valid[m] = false;
-                        factored = lu.factor();
-                        if factored.is_ok() {
-                            break;
-                        }
-                        stats.n_pivoted_factorizations += usize::from(!pivoting);
-                    }
+                    let lu = matrix_to_refactor(&mut self.lu[m], &mut s.spare_lu, &self.mesh);
+                    // Modified Newton: the solves stream the factors at every iteration, and
+                    // f32 halves that traffic (path 1 to 1.6 s with serial films 0.895; the
+                    // Newton and Jacobian counts the same, the onset 1e-10 s apart).
+                    lu.set_single_precision_solves(true);
+                    self.lu_valid[m] = false;
+                    let (gap, p_new) = (&s.gap, &s.p_new[r.clone()]);
+                    let factored = lu.assemble_and_factor(|lu| {
+                        reynolds::jacobian(&self.mesh, gap, k, co, p_new, lu)
+                    });
+                    // Both attempts failed (an error) or the second one served.
+                    stats.n_pivoted_factorizations += usize::from(!matches!(factored, Ok(false)));
                     stats.n_jacobians += 1;
                     if factored.is_err() {
                         return Err(NewtonFail {

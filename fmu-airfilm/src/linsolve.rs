@@ -469,6 +469,24 @@ impl BandLu {
         self.factor_in_place()
     }
 
+    /// Assembles the matrix with `assemble`, which must write the whole band (clear it first,
+    /// [`BandLu::zero`]), and factorizes it without row interchanges; where that is not stable
+    /// ([`GROWTH_LIMIT`]), assembles it again and factorizes with partial pivoting. Ok(true) when
+    /// pivoting was needed; an error only after both failed.
+    pub fn assemble_and_factor(
+        &mut self,
+        mut assemble: impl FnMut(&mut BandLu),
+    ) -> Result<bool, FactorError> {
+        self.set_pivoting(false);
+        assemble(self);
+        if self.factor().is_ok() {
+            return Ok(false);
+        }
+        self.set_pivoting(true);
+        assemble(self);
+        self.factor().map(|()| true)
+    }
+
     /// Compiled for the widest vector unit the CPU has, like `solve`.
     fn factor_in_place(&mut self) -> Result<(), FactorError> {
         struct Op<'a>(&'a mut BandLu);
