@@ -213,6 +213,35 @@ pub fn assemble_iteration_matrix(
     a
 }
 
+/// The constrained mass matrix [M G^T; G 0] for the mass blocks `m_blocks` (6x6 each,
+/// row-major), factored.
+pub fn constrained_mass_matrix<'a>(
+    sys: &MultibodySystem,
+    g_mat: &[f64],
+    m_blocks: impl Iterator<Item = &'a [f64]>,
+    what: &'static str,
+) -> Result<Lu, RotorError> {
+    let nq = sys.n_coords();
+    let nc = sys.n_constraints();
+    let n = nq + nc;
+    let mut a = vec![0.0; n * n];
+    for (b, m6) in m_blocks.enumerate() {
+        for i in 0..6 {
+            for j in 0..6 {
+                a[(6 * b + i) * n + 6 * b + j] = m6[i * 6 + j];
+            }
+        }
+    }
+    for ci in 0..nc {
+        for j in 0..nq {
+            let gij = g_mat[ci * nq + j];
+            a[j * n + nq + ci] = gij;
+            a[(nq + ci) * n + j] = gij;
+        }
+    }
+    Lu::factor(n, a, what)
+}
+
 /// Consistent accelerations a and multipliers lambda at (t, x, v): solves
 /// [M G^T; G 0] [a; lambda] = [f; c] with G a = c the acceleration-level constraints.
 pub fn consistent_acceleration(
@@ -228,29 +257,38 @@ pub fn consistent_acceleration(
     let nc = sys.n_constraints();
     let n = nq + nc;
     sys.eval(x, v, u, &mut work.m_blocks, &mut work.f);
-    let mut a = vec![0.0; n * n];
-    for (b, m6) in work.m_blocks.iter().enumerate() {
-        for i in 0..6 {
-            for j in 0..6 {
-                a[(6 * b + i) * n + 6 * b + j] = m6[i * 6 + j];
-            }
-        }
-    }
-    for ci in 0..nc {
-        for j in 0..nq {
-            let gij = g_mat[ci * nq + j];
-            a[j * n + nq + ci] = gij;
-            a[(nq + ci) * n + j] = gij;
-        }
-    }
     let mut rhs = vec![0.0; n];
     rhs[..nq].copy_from_slice(&work.f);
     for (ci, c) in sys.constraints.iter().enumerate() {
         rhs[nq + ci] = c.accel_rhs(t);
     }
-    let lu = Lu::factor(n, a, "consistent acceleration")?;
+    let lu = constrained_mass_matrix(
+        sys,
+        g_mat,
+        work.m_blocks.iter().map(|m| m.as_slice()),
+        "consistent acceleration",
+    )?;
     lu.solve(&mut rhs);
     let lam = rhs[nq..].to_vec();
     rhs.truncate(nq);
     Ok((rhs, lam))
+}
+
+/// How much the consistent accelerations and multipliers at (x, v) change when the inputs change
+/// by `du`: the solution of [M G^T; G 0] [da; dlambda] = [f_u(du); 0], with `mass` the factored
+/// constrained mass matrix ([`constrained_mass_matrix`]) and f_u the forces the inputs apply
+/// (linear in them).
+pub fn acceleration_jump(
+    sys: &MultibodySystem,
+    mass: &Lu,
+    x: &[f64],
+    v: &[f64],
+    du: &[f64],
+) -> (Vec<f64>, Vec<f64>) {
+    let nq = sys.n_coords();
+    let mut rhs = vec![0.0; nq + sys.n_constraints()];
+    sys.input_forces(x, v, du, &mut rhs[..nq]);
+    mass.solve(&mut rhs);
+    let dlam = rhs.split_off(nq);
+    (rhs, dlam)
 }

@@ -70,6 +70,30 @@ impl MultibodySystem {
             .collect()
     }
 
+    /// The generalized forces of the [`ForceElement::InputForce`]s alone (linear in `u`).
+    pub fn input_forces(&self, x: &[f64], v: &[f64], u: &[f64], f: &mut [f64]) {
+        f.fill(0.0);
+        let kins = self.kinematics(x, v);
+        for fe in &self.forces {
+            if let ForceElement::InputForce {
+                body,
+                s_m,
+                input,
+                reaction_body,
+            } = *fe
+            {
+                add_input_force(
+                    f,
+                    &kins,
+                    body,
+                    &s_m,
+                    [u[input], u[input + 1]],
+                    reaction_body,
+                );
+            }
+        }
+    }
+
     /// Mass matrix blocks (one row-major 6x6 per body) and f_e. `u` are the input forces.
     pub fn eval(&self, x: &[f64], v: &[f64], u: &[f64], m_blocks: &mut [[f64; 36]], f: &mut [f64]) {
         self.eval_with(x, v, u, m_blocks, f, RingContacts::Evaluate)
@@ -112,12 +136,14 @@ impl MultibodySystem {
                     input,
                     reaction_body,
                 } => {
-                    let fv = [u[input], u[input + 1], 0.0];
-                    add_point_force(f, body, &kins[body], &s_m, &fv);
-                    if let Some(rb) = reaction_body {
-                        f[6 * rb] -= fv[0];
-                        f[6 * rb + 1] -= fv[1];
-                    }
+                    add_input_force(
+                        f,
+                        &kins,
+                        body,
+                        &s_m,
+                        [u[input], u[input + 1]],
+                        reaction_body,
+                    );
                 }
                 ForceElement::Film {
                     body_a,
@@ -230,6 +256,22 @@ impl ContactMemo {
     /// Contact forces reused so far.
     pub fn reused(&self) -> usize {
         self.reused
+    }
+}
+
+/// An input force (x, y) on point `s` of `body`, its reaction on the centre of `reaction_body`.
+fn add_input_force(
+    f: &mut [f64],
+    kins: &[BodyKinematics],
+    body: usize,
+    s: &Vec3,
+    force_n: [f64; 2],
+    reaction_body: Option<usize>,
+) {
+    add_point_force(f, body, &kins[body], s, &[force_n[0], force_n[1], 0.0]);
+    if let Some(rb) = reaction_body {
+        f[6 * rb] -= force_n[0];
+        f[6 * rb + 1] -= force_n[1];
     }
 }
 
