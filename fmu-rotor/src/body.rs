@@ -59,9 +59,11 @@ pub struct BodyKinematics {
 
 /// Rotation matrix Rx(a) Ry(b) Rz(c).
 pub fn rotation(q: &Vec3) -> M3 {
-    let (sa, ca) = q[0].sin_cos();
-    let (sb, cb) = q[1].sin_cos();
-    let (sc, cc) = q[2].sin_cos();
+    rotation_of(q[0].sin_cos(), q[1].sin_cos(), q[2].sin_cos())
+}
+
+/// [`rotation`] from the sines and cosines of its three angles.
+fn rotation_of((sa, ca): (f64, f64), (sb, cb): (f64, f64), (sc, cc): (f64, f64)) -> M3 {
     // Rx * Ry (rows as written)
     let rxy = M3::new(cb, 0.0, sb, sa * sb, ca, -sa * cb, -ca * sb, sa, ca * cb);
     let rz = M3::new(cc, -sc, 0.0, sc, cc, 0.0, 0.0, 0.0, 1.0);
@@ -72,6 +74,8 @@ impl BodyKinematics {
     /// `x`, `v`: the body's 6 coordinates and 6 velocities.
     pub fn new(x: &[f64], v: &[f64]) -> Self {
         let q = [x[3], x[4], x[5]];
+        // Each angle's sine and cosine once: H and the rotation share b and c (5 -> 3 sin_cos
+        // per body and evaluation; libm's sincos was 5 % of a ring-riding run-up's samples).
         let (sb, cb) = q[1].sin_cos();
         let (sc, cc) = q[2].sin_cos();
         let h = M3::new(cb * cc, sc, 0.0, -cb * sc, cc, 0.0, sb, 0.0, 1.0);
@@ -85,7 +89,7 @@ impl BodyKinematics {
         BodyKinematics {
             r: V3::new(x[0], x[1], x[2]),
             rdot: V3::new(v[0], v[1], v[2]),
-            rot: rotation(&q),
+            rot: rotation_of(q[0].sin_cos(), (sb, cb), (sc, cc)),
             h,
             omega_b,
             hdot_qdot,

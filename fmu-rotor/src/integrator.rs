@@ -27,6 +27,7 @@ use crate::linalg::Lu;
 use crate::params::RotorError;
 use crate::system::MultibodySystem;
 use serde::{Deserialize, Serialize};
+use std::sync::Arc;
 
 /// Most steps the interval length adds to the budget of one call (1 s at h_max = 0.1 ms).
 pub const MAX_INTERVAL_STEPS: u64 = 100_000;
@@ -107,8 +108,11 @@ struct JacCache {
     fv: Vec<f64>,
     /// Mass-matrix blocks, 36 values per body.
     m_flat: Vec<f64>,
-    /// [M G^T; G 0] with these mass blocks, factored when an input jump first needs it.
-    constrained_mass: Option<Lu>,
+    /// [M G^T; G 0] with these mass blocks, factored when an input jump first needs it. Not
+    /// serialized: a restored state factors it again from `m_flat`, to the same bits, and its
+    /// saved form stays as small as before (a run-up's checkpoints).
+    #[serde(skip)]
+    constrained_mass: Option<Arc<Lu>>,
 }
 
 /// The integrator together with the system it integrates.
@@ -127,7 +131,10 @@ pub struct GglBdf {
     prev: Option<(f64, Vec<f64>)>,
     h_ctrl: f64,
     jac: Option<JacCache>,
-    lu: Option<Lu>,
+    /// Shared (as the spares and the constrained mass matrix) with the copies a master saves
+    /// for its roll-back before every macro step: a factorization is never changed once made,
+    /// so a saved state costs a reference, not a copy of four factorizations.
+    lu: Option<Arc<Lu>>,
     lu_beta_h: f64,
     /// Newton rate estimate rate / (1 - rate) (DASSL's S).
     newton_s: f64,
@@ -137,7 +144,7 @@ pub struct GglBdf {
     /// size: in path 1's large whirl nearly every macro step did so, 47 011 factorizations in
     /// 3 s. Where the master refines its macro steps (journals riding on their rings) the steps
     /// follow the refinement levels, halves of each other, and come back to them.
-    lu_prev: Vec<(Lu, f64, f64)>,
+    lu_prev: Vec<(Arc<Lu>, f64, f64)>,
     u_last: Vec<f64>,
     n_inputs: usize,
     drift_pos: f64,
@@ -344,7 +351,7 @@ impl GglBdf {
         let nq = self.sys.n_coords();
         let nc = self.sys.n_constraints();
         let j = self.jac.as_ref().expect("jacobian present");
-        self.lu = Some(ggl::iteration_matrix(
+        self.lu = Some(Arc::new(ggl::iteration_matrix(
             nq,
             nc,
             &self.g_mat,
@@ -352,7 +359,7 @@ impl GglBdf {
             &j.fx,
             &j.fv,
             beta_h,
-        )?);
+        )?));
         self.lu_beta_h = beta_h;
         self.newton_s = 100.0;
         stats.factorizations += 1;
@@ -382,16 +389,16 @@ impl GglBdf {
         let (x, v) = self.y.split_at(nq);
         let du: Vec<f64> = u_new.iter().zip(&self.u_last).map(|(a, b)| a - b).collect();
         let fresh;
-        let mass = match &mut self.jac {
+        let mass: &Lu = match &mut self.jac {
             Some(j) => {
                 if j.constrained_mass.is_none() {
                     let blocks = j.m_flat.chunks(36);
-                    j.constrained_mass = Some(ggl::constrained_mass_matrix(
+                    j.constrained_mass = Some(Arc::new(ggl::constrained_mass_matrix(
                         &self.sys,
                         &self.g_mat,
                         blocks,
                         "acceleration jump",
-                    )?);
+                    )?));
                 }
                 j.constrained_mass.as_ref().expect("factored above")
             }
