@@ -4,6 +4,10 @@
 //! * Order 1 on the very first step (the only history is the consistent initial state and its
 //!   derivative), order 2 afterwards. BDF2 is A-stable, so the stiff ring modes and the fast
 //!   gyroscopic terms do not limit the step; accuracy does.
+//! * Inputs that jump at the start of a call (a master's new input polynomial starts at another
+//!   value than the last one ended on) move the history onto the smooth solution through the
+//!   post-jump state (`take_input_jump_into_history`), so BDF2 keeps its order through the kink
+//!   instead of stepping through it with a first-order error.
 //! * Predictor: order 1 uses y_n + h y'_n; order 2 the quadratic through y_{n-1}, y_n and y'_n.
 //!   The local error of the corrector is K (y_{n+1} - y_pred) with K = 1/2 (BDF1) and
 //!   K = (1 + w) / (2 + 3 w), w = h_n / h_{n-1} (BDF2; 2/5 at equal steps): the local truncation
