@@ -75,22 +75,7 @@ impl MultibodySystem {
         f.fill(0.0);
         let kins = self.kinematics(x, v);
         for fe in &self.forces {
-            if let ForceElement::InputForce {
-                body,
-                s_m,
-                input,
-                reaction_body,
-            } = *fe
-            {
-                add_input_force(
-                    f,
-                    &kins,
-                    body,
-                    &s_m,
-                    [u[input], u[input + 1]],
-                    reaction_body,
-                );
-            }
+            add_input_force(f, &kins, fe, u);
         }
     }
 
@@ -130,21 +115,7 @@ impl MultibodySystem {
                     f[6 * body] += -c_n_m * (k.r[0] - anchor_m[0]) - d_n_s_m * k.rdot[0];
                     f[6 * body + 1] += -c_n_m * (k.r[1] - anchor_m[1]) - d_n_s_m * k.rdot[1];
                 }
-                ForceElement::InputForce {
-                    body,
-                    s_m,
-                    input,
-                    reaction_body,
-                } => {
-                    add_input_force(
-                        f,
-                        &kins,
-                        body,
-                        &s_m,
-                        [u[input], u[input + 1]],
-                        reaction_body,
-                    );
-                }
+                ForceElement::InputForce { .. } => add_input_force(f, &kins, fe, u),
                 ForceElement::Film {
                     body_a,
                     s_a_m,
@@ -259,16 +230,20 @@ impl ContactMemo {
     }
 }
 
-/// An input force (x, y) on point `s` of `body`, its reaction on the centre of `reaction_body`.
-fn add_input_force(
-    f: &mut [f64],
-    kins: &[BodyKinematics],
-    body: usize,
-    s: &Vec3,
-    force_n: [f64; 2],
-    reaction_body: Option<usize>,
-) {
-    add_point_force(f, body, &kins[body], s, &[force_n[0], force_n[1], 0.0]);
+/// Adds the force of `fe` if it is an [`ForceElement::InputForce`] (its input pair on its body
+/// point, the reaction on the centre of its reaction body); any other element adds nothing.
+fn add_input_force(f: &mut [f64], kins: &[BodyKinematics], fe: &ForceElement, u: &[f64]) {
+    let ForceElement::InputForce {
+        body,
+        s_m,
+        input,
+        reaction_body,
+    } = *fe
+    else {
+        return;
+    };
+    let force_n = [u[input], u[input + 1]];
+    add_point_force(f, body, &kins[body], &s_m, &[force_n[0], force_n[1], 0.0]);
     if let Some(rb) = reaction_body {
         f[6 * rb] -= force_n[0];
         f[6 * rb + 1] -= force_n[1];
