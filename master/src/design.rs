@@ -54,6 +54,8 @@ pub struct DesignArgs {
     #[arg(long)]
     pub dh: Option<f64>,
     /// Air-film mesh per lobe, e.g. 20x6 (elements along the lobe x across the half width).
+    /// Default: the paper's 20x6; a run-up without it takes 20x3, 20x4 or 20x6 by the largest
+    /// bearing number of its films (docs/convergence.md, "Film mesh across the width").
     #[arg(long)]
     pub mesh: Option<String>,
     /// Any other FMU parameter, repeatable: PREFIX.NAME=VALUE with PREFIX rotor, film (both

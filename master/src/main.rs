@@ -477,10 +477,11 @@ fn main() -> ExitCode {
             // The system file goes into the run folder only once the run has started.
             let staged = master::out_folder::StagedSystem::new(&s.system_toml(dir_text))?;
             eprintln!(
-                "run-up '{}': {}, {}; macro step {} us -> {}",
+                "run-up '{}': {}, {}; {}; macro step {} us -> {}",
                 s.preset,
                 master::runup::describe_bearings(&s)?,
                 s.describe_speed(),
+                master::runup::describe_film_mesh(&s)?,
                 s.macro_step_us,
                 out.display()
             );

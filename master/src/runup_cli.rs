@@ -68,8 +68,9 @@ pub struct RunupArgs {
     /// down to 1/64), or "off" for a fixed macro step [default: 0.3,3; 0.1,1 until 2026-12-04]
     #[arg(long)]
     pub step_control: Option<String>,
-    /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: 3e-3,300; 1e-3,100 until
-    /// 2026-12-05; the FMU's own defaults are 1e-4,10]
+    /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: 1e-3,100 (3e-3,300 with the
+    /// paper's 20x6 mesh in sessions 22-27, `--mesh 20x6 --film-tolerance 3e-3,300`); the FMU's
+    /// own defaults are 1e-4,10]
     #[arg(long)]
     pub film_tolerance: Option<String>,
     /// Where the journal-ring contact is evaluated: "rotor" (implicitly inside the rotor's
@@ -164,6 +165,13 @@ pub fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     if let Some(i) = &a.imbalance_t {
         s.imbalance_t = triple(i, "imbalance-t")?;
     }
+    if a.bearing.mesh.is_none() {
+        // A film parameter that does not map is reported by validate, with its flag.
+        if let Err(e) = s.choose_film_mesh() {
+            s.validate()?;
+            return Err(e);
+        }
+    }
     s.validate()?;
     Ok(s)
 }
@@ -191,4 +199,90 @@ pub fn check_argv(argv: &[String]) -> Result<RunupSettings, String> {
     let s = settings(&flags.args)?;
     s.validate_runup()?;
     Ok(s)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn settings_of(flags: &[&str]) -> RunupSettings {
+        let argv: Vec<String> = std::iter::once("runup")
+            .chain(flags.iter().copied())
+            .map(String::from)
+            .collect();
+        check_argv(&argv).unwrap()
+    }
+
+    /// Lambda = 6 eta Omega r^2 / (p_a C^2) with the paper's r = 15 mm, eta = 20.936e-6 Pa s and
+    /// p_a = 101325 Pa, written out here apart from the film's own formula.
+    fn lambda(c_um: f64, f_hz: f64) -> f64 {
+        let (eta, r, p_a) = (20.936e-6, 15e-3, 101_325.0);
+        6.0 * eta * 2.0 * std::f64::consts::PI * f_hz * r * r / (p_a * (c_um * 1e-6).powi(2))
+    }
+
+    fn close(a: f64, b: f64) -> bool {
+        (a - b).abs() <= 1e-12 * b.abs()
+    }
+
+    /// Without --mesh a run-up takes the film mesh for its largest bearing number, at its
+    /// highest speed (not at the stop time), from either film's clearance however it was set;
+    /// --mesh, or a film's n_elem_phi / n_elem_z through --set, is the user's mesh and stays.
+    #[test]
+    fn run_up_chooses_the_film_mesh_by_the_largest_bearing_number() {
+        assert_eq!(crate::runup::film_mesh_for(8.8), (20, 3));
+        assert_eq!(crate::runup::film_mesh_for(20.0), (20, 3));
+        assert_eq!(crate::runup::film_mesh_for(20.01), (20, 4));
+        assert_eq!(crate::runup::film_mesh_for(40.0), (20, 4));
+        assert_eq!(crate::runup::film_mesh_for(40.01), (20, 6));
+        assert_eq!(crate::runup::film_mesh_for(f64::NAN), (20, 6));
+
+        let cases: [(&[&str], (u32, u32), f64); 6] = [
+            (&[], (20, 3), lambda(20.0, 2000.0)),
+            (&["--stop", "0.1"], (20, 3), lambda(20.0, 2000.0)),
+            (&["--clearance", "10"], (20, 4), lambda(10.0, 2000.0)),
+            (&["--clearance", "5"], (20, 6), lambda(5.0, 2000.0)),
+            // The smaller clearance of the two films decides (C 20 / 10 um).
+            (
+                &["--set", "film_T.C=10 um", "--contact", "film"],
+                (20, 4),
+                lambda(10.0, 2000.0),
+            ),
+            // A profile's highest speed, not its last: 3000 Hz at 1 s.
+            (
+                &["--profile", "0:0,1:3000,2:0", "--clearance", "13"],
+                (20, 4),
+                lambda(13.0, 3000.0),
+            ),
+        ];
+        for (flags, mesh, expected_lambda) in cases {
+            let s = settings_of(flags);
+            assert_eq!((s.n_elem_phi, s.n_elem_z), mesh, "{flags:?}");
+            let got = s.film_mesh_bearing_number.unwrap();
+            assert!(
+                close(got, expected_lambda),
+                "{flags:?}: {got} against {expected_lambda}"
+            );
+            // The films get that mesh.
+            for f in s.film_params().unwrap() {
+                assert_eq!(
+                    (f.n_elem_phi, f.n_elem_z),
+                    (20, mesh.1 as usize),
+                    "{flags:?}"
+                );
+            }
+        }
+
+        let s = settings_of(&["--mesh", "20x6", "--clearance", "10"]);
+        assert_eq!((s.n_elem_phi, s.n_elem_z), (20, 6));
+        assert_eq!(s.film_mesh_bearing_number, None);
+        let s = settings_of(&["--set", "film.n_elem_z=5"]);
+        assert_eq!(s.film_mesh_bearing_number, None);
+        for f in s.film_params().unwrap() {
+            assert_eq!((f.n_elem_phi, f.n_elem_z), (20, 5));
+        }
+        // A bad film parameter is reported with its flag, not as a mesh problem.
+        let argv: Vec<String> = ["runup", "--set", "film.eta=-1"].map(String::from).to_vec();
+        let e = check_argv(&argv).unwrap_err();
+        assert!(e.contains("eta"), "{e}");
+    }
 }
