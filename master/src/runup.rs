@@ -255,13 +255,15 @@ impl RunupSettings {
     }
 
     /// The largest bearing number Lambda = 6 eta Omega r^2 / (p_a C^2) of either film at the
-    /// run's highest speed: `f_max_hz`, or the speed profile's highest point. The stop time does
-    /// not enter: a run-up stopped early uses the film mesh of the whole run-up.
+    /// run's highest speed, as the rotor FMU gets it (`f_max`, or its speed table's highest
+    /// point; a `--set rotor.f_max` included). The stop time does not enter: a run-up stopped
+    /// early uses the film mesh of the whole run-up.
     pub fn largest_bearing_number(&self) -> Result<f64, String> {
-        let f_max_hz = if self.speed_profile.is_empty() {
-            self.f_max_hz
+        let rotor = self.rotor_params()?;
+        let f_max_hz = if rotor.speed_table.is_empty() {
+            rotor.f_max_hz
         } else {
-            self.speed_profile.iter().map(|p| p.1).fold(0.0, f64::max)
+            rotor.speed_table.iter().map(|p| p.1).fold(0.0, f64::max)
         };
         let omega_rad_s = 2.0 * std::f64::consts::PI * f_max_hz;
         let films = self.film_params()?;

@@ -165,14 +165,12 @@ pub fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     if let Some(i) = &a.imbalance_t {
         s.imbalance_t = triple(i, "imbalance-t")?;
     }
-    if a.bearing.mesh.is_none() {
-        // A film parameter that does not map is reported by validate, with its flag.
-        if let Err(e) = s.choose_film_mesh() {
-            s.validate()?;
-            return Err(e);
-        }
-    }
+    // Checked first, so that a parameter that does not map is reported with its flag; every
+    // mesh the run-up chooses passes the same checks.
     s.validate()?;
+    if a.bearing.mesh.is_none() {
+        s.choose_film_mesh()?;
+    }
     Ok(s)
 }
 
@@ -236,7 +234,7 @@ mod tests {
         assert_eq!(crate::runup::film_mesh_for(40.01), (20, 6));
         assert_eq!(crate::runup::film_mesh_for(f64::NAN), (20, 6));
 
-        let cases: [(&[&str], (u32, u32), f64); 6] = [
+        let cases: [(&[&str], (u32, u32), f64); 7] = [
             (&[], (20, 3), lambda(20.0, 2000.0)),
             (&["--stop", "0.1"], (20, 3), lambda(20.0, 2000.0)),
             (&["--clearance", "10"], (20, 4), lambda(10.0, 2000.0)),
@@ -252,6 +250,12 @@ mod tests {
                 &["--profile", "0:0,1:3000,2:0", "--clearance", "13"],
                 (20, 4),
                 lambda(13.0, 3000.0),
+            ),
+            // The rotor's speed as its FMU gets it, a --set included.
+            (
+                &["--set", "rotor.f_max=5000 Hz"],
+                (20, 4),
+                lambda(20.0, 5000.0),
             ),
         ];
         for (flags, mesh, expected_lambda) in cases {
