@@ -3,6 +3,7 @@
 //! pressure field taken from a whirl orbit (eps 0.3, whirl 400 Hz, Omega 1000 Hz). Medians of 41
 //! repeats of 200 calls each. In a run-up the two take ~2/3 of the films' time (residual ~36 %,
 //! solves ~31 % of all CPU samples of a path-1 run-up). Run: cargo bench -p fmu-airfilm --bench kernels
+//! (AIRFILM_MESH=20x3 before it: another mesh per lobe, e.g. a run-up's own).
 
 mod common;
 
@@ -29,7 +30,15 @@ fn time_per_call(mut f: impl FnMut()) -> f64 {
 }
 
 fn main() {
-    let prm = BearingParams::paper();
+    let mut prm = BearingParams::paper();
+    // Another mesh per lobe, e.g. AIRFILM_MESH=20x3 (a run-up's at the Section 3 presets).
+    if let Ok(mesh) = std::env::var("AIRFILM_MESH") {
+        let (phi, z) = mesh.split_once('x').expect("AIRFILM_MESH: e.g. 20x3");
+        prm.n_elem_phi = phi.parse().expect("AIRFILM_MESH: elements along the lobe");
+        prm.n_elem_z = z
+            .parse()
+            .expect("AIRFILM_MESH: elements across the half width");
+    }
     let om = 2.0 * PI * 1000.0;
     let orbit = whirl_orbit(&prm, 0.3, 400.0, 1000.0);
     let h = 10e-6;
@@ -58,7 +67,7 @@ fn main() {
         std::hint::black_box(&mut lu);
     });
     println!(
-        "one lobe (533 nodes): residual median {:.2} us, Jacobian assembly {:.2} us",
+        "one lobe ({npb} nodes): residual median {:.2} us, Jacobian assembly {:.2} us",
         t_res * 1e6,
         t_jac * 1e6,
     );

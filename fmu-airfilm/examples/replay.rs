@@ -4,6 +4,9 @@
 //!
 //! cargo run --release -p fmu-airfilm --example replay -- RUN_DIR/timeseries.csv C [t_end_s [t_start_s [h_us]]]
 //!
+//! AIRFILM_MESH=20x3 and AIRFILM_TOL=1e-3,100 give the film a run-up's mesh and tolerances (the
+//! paper's 20 x 6 and the FMU's own tolerances without them).
+//!
 //! With a start time the film starts there from ambient pressure; the first 2 ms (its start-up
 //! transient) are not counted.
 
@@ -63,7 +66,20 @@ fn main() {
             omega_rad_s: r[4],
         }
     };
-    let mut film = AirFilm::new(BearingParams::paper()).unwrap();
+    let mut params = BearingParams::paper();
+    // The run-up's film settings, e.g. AIRFILM_MESH=20x3 AIRFILM_TOL=1e-3,100 (the paper's 20 x 6
+    // and the FMU's own tolerances without them).
+    if let Ok(mesh) = std::env::var("AIRFILM_MESH") {
+        let (phi, z) = mesh.split_once('x').expect("AIRFILM_MESH: e.g. 20x3");
+        params.n_elem_phi = phi.parse().unwrap();
+        params.n_elem_z = z.parse().unwrap();
+    }
+    if let Ok(tol) = std::env::var("AIRFILM_TOL") {
+        let (rtol, atol) = tol.split_once(',').expect("AIRFILM_TOL: e.g. 1e-3,100");
+        params.rtol = rtol.parse().unwrap();
+        params.atol_pa = atol.parse().unwrap();
+    }
+    let mut film = AirFilm::new(params).unwrap();
     // Macro step [s]: the run-up default (20 us) unless given.
     let h: f64 = args
         .get(5)

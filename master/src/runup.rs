@@ -568,8 +568,9 @@ pub fn describe_bearings(s: &RunupSettings) -> Result<String, String> {
     ))
 }
 
-/// The films' mesh as their FMUs get it, "film mesh 20 x 3 per lobe", and why where the run-up
-/// chose it: "(for the largest bearing number 8.8; the paper's is 20 x 6)".
+/// The films' mesh as their FMUs get it, "film mesh 20 x 3 per lobe", why where the run-up chose
+/// it, "(for the largest bearing number 8.8; the paper's is 20 x 6)", and the films' time
+/// integration tolerance as their FMUs get it too, ", film tolerance 1e-3 / 100 Pa".
 pub fn describe_film_mesh(s: &RunupSettings) -> Result<String, String> {
     let films = s.film_params()?;
     let mesh = |f: &fmu_airfilm::BearingParams| format!("{} x {}", f.n_elem_phi, f.n_elem_z);
@@ -582,6 +583,13 @@ pub fn describe_film_mesh(s: &RunupSettings) -> Result<String, String> {
     if let Some(lambda) = s.film_mesh_bearing_number {
         text += &format!(" (for the largest bearing number {lambda:.1}; the paper's is 20 x 6)");
     }
+    let tol = |f: &fmu_airfilm::BearingParams| format!("{:e} / {} Pa", f.rtol, f.atol_pa);
+    let (c, t) = (tol(&films[0]), tol(&films[1]));
+    text += &if c == t {
+        format!(", film tolerance {c}")
+    } else {
+        format!(", film tolerance {c} (C) / {t} (T)")
+    };
     Ok(text)
 }
 

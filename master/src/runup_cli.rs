@@ -289,4 +289,21 @@ mod tests {
         let e = check_argv(&argv).unwrap_err();
         assert!(e.contains("eta"), "{e}");
     }
+
+    /// The run-up's first line names the films' mesh and tolerance as their FMUs get them.
+    #[test]
+    fn the_first_line_states_the_films_mesh_and_tolerance() {
+        let line = crate::runup::describe_film_mesh(&settings_of(&[])).unwrap();
+        assert!(
+            line.starts_with("film mesh 20 x 3 per lobe (for the largest bearing number 8.8")
+                && line.ends_with(", film tolerance 1e-3 / 100 Pa"),
+            "{line}"
+        );
+        let s = settings_of(&["--mesh", "20x6", "--set", "film_T.rtol=1e-4"]);
+        let line = crate::runup::describe_film_mesh(&s).unwrap();
+        assert_eq!(
+            line,
+            "film mesh 20 x 6 per lobe, film tolerance 1e-3 / 100 Pa (C) / 1e-4 / 100 Pa (T)"
+        );
+    }
 }
