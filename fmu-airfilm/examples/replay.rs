@@ -5,7 +5,8 @@
 //! cargo run --release -p fmu-airfilm --example replay -- RUN_DIR/timeseries.csv C [t_end_s [t_start_s [h_us]]]
 //!
 //! AIRFILM_MESH=20x3 and AIRFILM_TOL=1e-3,100 give the film a run-up's mesh and tolerances (the
-//! paper's 20 x 6 and the FMU's own tolerances without them).
+//! paper's 20 x 6 and the FMU's own tolerances without them), AIRFILM_HMAX_US=1000 another largest
+//! sub-step (its own 100 us without).
 //!
 //! With a start time the film starts there from ambient pressure; the first 2 ms (its start-up
 //! transient) are not counted.
@@ -78,6 +79,12 @@ fn main() {
         let (rtol, atol) = tol.split_once(',').expect("AIRFILM_TOL: e.g. 1e-3,100");
         params.rtol = rtol.parse().unwrap();
         params.atol_pa = atol.parse().unwrap();
+    }
+    if let Ok(h_max_us) = std::env::var("AIRFILM_HMAX_US") {
+        params.h_max_s = h_max_us
+            .parse::<f64>()
+            .expect("AIRFILM_HMAX_US: microseconds")
+            * 1e-6;
     }
     let mut film = AirFilm::new(params).unwrap();
     // Macro step [s]: the run-up default (20 us) unless given.
