@@ -92,7 +92,11 @@ impl FmuParameter {
         let (target, var) = lookup(key)?;
         let name = var.name;
         let bad = |what: &str| format!("'{key}' = '{text}': {what}");
-        let t = text.trim();
+        let t = match var.var_type {
+            VarType::Real => unit_spaces_as_dots(text.trim()),
+            _ => text.trim().to_string(),
+        };
+        let t = t.as_str();
         let value = match var.var_type {
             VarType::Boolean => match t {
                 "true" => Value::Boolean(true),
@@ -186,6 +190,17 @@ pub fn check_key(key: &str) -> Result<(), String> {
     lookup(key).map(|_| ())
 }
 
+/// "50 N s/m" as the units are declared, "50 N.s/m": a product of units written with spaces.
+fn unit_spaces_as_dots(t: &str) -> String {
+    match t.split_once(char::is_whitespace) {
+        Some((num, unit)) => {
+            let unit = unit.split_whitespace().collect::<Vec<_>>().join(".");
+            format!("{num} {unit}")
+        }
+        None => t.to_string(),
+    }
+}
+
 /// "number" (SI) or "number unit" (the SI unit or one of its declared display units) -> SI.
 fn real_si(var: &fmi2::Variable, t: &str) -> Result<f64, String> {
     let (num, unit) =
@@ -273,6 +288,17 @@ mod tests {
                 .value,
             Value::Integer(12)
         );
+        // A product of units written with a space is the declared one with a dot.
+        for (k, spaced, dotted) in [
+            ("rotor.d_C", "50 N s/m", "50 N.s/m"),
+            ("film.eta", " 2e-5  Pa s ", "2e-5 Pa.s"),
+        ] {
+            let (a, b) = (
+                FmuParameter::parse(k, spaced).unwrap(),
+                FmuParameter::parse(k, dotted).unwrap(),
+            );
+            assert_eq!((a.value, a.toml_value()), (b.value, b.toml_value()), "{k}");
+        }
         for (k, v, why) in [
             ("eta", "1", "PREFIX.NAME"),
             ("stator.eta", "1", "unknown FMU"),

@@ -445,6 +445,16 @@ fn quiet_on_closed_stdout(command: &Command) {
     }
 }
 
+/// `--checkpoint-every`, checked with its name before a run starts.
+fn check_checkpoint_every(every_s: Option<f64>) -> Result<(), String> {
+    match every_s {
+        Some(dt) if !(dt.is_finite() && dt > 0.0) => Err(format!(
+            "--checkpoint-every = {dt} s must be a finite number > 0 (simulated seconds)"
+        )),
+        _ => Ok(()),
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     quiet_on_closed_stdout(&cli.command);
@@ -452,6 +462,10 @@ fn main() -> ExitCode {
         Command::Runup { args, common } => {
             let mut s = master::runup_cli::settings(&args)?;
             s.validate_runup()?;
+            // Every flag and the output folder checked before the calm plan's analysis runs.
+            check_checkpoint_every(common.checkpoint_every)?;
+            let out = common.out.clone().unwrap_or_else(|| default_out(&s.preset));
+            master::out_folder::check_new_run(&out, common.overwrite)?;
             if let (Some(calm_us), Some(_)) = (s.calm_macro_step_us, s.calm_factor()) {
                 // A cache that cannot be opened only makes the plan slower.
                 let cache = args.linear_cache.as_deref().and_then(|d| {
@@ -472,8 +486,6 @@ fn main() -> ExitCode {
                     dir.display()
                 )
             })?;
-            let out = common.out.clone().unwrap_or_else(|| default_out(&s.preset));
-            master::out_folder::check_new_run(&out, common.overwrite)?;
             // The system file goes into the run folder only once the run has started.
             let staged = master::out_folder::StagedSystem::new(&s.system_toml(dir_text))?;
             eprintln!(
@@ -504,6 +516,7 @@ fn main() -> ExitCode {
             clearance,
             dh,
         } => {
+            check_checkpoint_every(common.checkpoint_every)?;
             let out = common.out.clone().unwrap_or_else(|| {
                 default_out(system.file_stem().and_then(|s| s.to_str()).unwrap_or("run"))
             });
@@ -529,6 +542,7 @@ fn main() -> ExitCode {
             checkpoint_every,
             parquet,
         } => {
+            check_checkpoint_every(checkpoint_every)?;
             if !dir.join("system.toml").is_file() {
                 return Err(format!(
                     "{}: no run to resume (no system.toml): the run never started here, or this \
@@ -537,6 +551,12 @@ fn main() -> ExitCode {
                 ));
             }
             let old = master::summary::RunSummary::read(&dir).unwrap_or_default();
+            if old.status == master::summary::RunStatus::Completed {
+                return Err(format!(
+                    "{}: the run completed (summary.json): nothing to resume",
+                    dir.display()
+                ));
+            }
             let opts = RunOptions {
                 out_dir: dir.clone(),
                 checkpoint_every_s: checkpoint_every,

@@ -153,13 +153,40 @@ impl RunupSettings {
         for (name, v, unit, zero_ok) in positive {
             if !v.is_finite() || v < 0.0 || (!zero_ok && v == 0.0) {
                 return Err(format!(
-                    "--{name} = {v} {unit} must be {}",
+                    "--{name} = {} {unit} must be a finite number {}",
+                    fmt_number(v),
                     if zero_ok { ">= 0" } else { "> 0" }
                 ));
             }
         }
         if !(self.dh_um.is_finite() && self.dh_um >= 0.0) {
-            return Err(format!("--dh = {} um must be >= 0", self.dh_um));
+            return Err(format!(
+                "--dh = {} um must be a finite number >= 0",
+                fmt_number(self.dh_um)
+            ));
+        }
+        // The bore's own bounds (`bearing::Bore::validate`), in the flags' unit.
+        if !(0.01..=1e4).contains(&self.clearance_um) {
+            return Err(format!(
+                "--clearance = {} um must lie between 0.01 um and 10000 um",
+                fmt_number(self.clearance_um)
+            ));
+        }
+        if self.dh_um > 1e4 {
+            return Err(format!(
+                "--dh = {} um must lie between 0 um and 10000 um",
+                fmt_number(self.dh_um)
+            ));
+        }
+        let top_speed_hz = self.speed_profile.iter().map(|p| p.1).fold(0.0, f64::max);
+        for (name, f_hz) in [("f-max", self.f_max_hz), ("profile", top_speed_hz)] {
+            if f_hz > MAX_SPEED_HZ {
+                return Err(format!(
+                    "--{name}: {} Hz is above {MAX_SPEED_HZ} Hz, the highest speed a run-up \
+                     takes (10 times the paper's 2000 Hz)",
+                    fmt_number(f_hz)
+                ));
+            }
         }
 
         if let Some(calm) = self.calm_macro_step_us {
@@ -174,9 +201,10 @@ impl RunupSettings {
         if self.extrapolation_order > 2 || self.interpolation_order > 2 {
             return Err("polynomial orders must be 0, 1 or 2".into());
         }
-        if self.n_elem_phi < 2 || self.n_elem_z < 1 {
+        // The air-film FMU's own lower bounds (n_elem_phi >= 4, n_elem_z >= 2).
+        if self.n_elem_phi < 4 || self.n_elem_z < 2 {
             return Err(format!(
-                "mesh {}x{} is too coarse (at least 2x1 elements per lobe)",
+                "mesh {}x{} is too coarse (at least 4x2 elements per lobe)",
                 self.n_elem_phi, self.n_elem_z
             ));
         }
@@ -201,6 +229,20 @@ impl RunupSettings {
     /// bearings). The linear analysis takes each film's own and needs only `validate`.
     pub fn validate_runup(&self) -> Result<(), String> {
         self.validate()?;
+        // Rows are written at macro points only: an interval that is not a whole number of
+        // macro steps would space them unevenly (50 us at a 20 us step: 60, 40, 60, ... us).
+        let per_row = (self.output_interval_us / self.macro_step_us).round();
+        if per_row < 1.0
+            || (self.output_interval_us - per_row * self.macro_step_us).abs()
+                > 1e-9 * self.output_interval_us
+        {
+            return Err(format!(
+                "--output-interval = {} us must be a whole number of macro steps ({} us): the \
+                 time series is written at macro steps only",
+                fmt_number(self.output_interval_us),
+                fmt_number(self.macro_step_us)
+            ));
+        }
         if self.stop_time_s * 1e6 < self.macro_step_us {
             return Err(format!(
                 "--stop = {} s is shorter than one macro step ({} us)",
@@ -304,13 +346,10 @@ impl RunupSettings {
         let [c, t] = self.film_params()?;
         if c.bore != t.bore || c.contact != t.contact {
             return Err(format!(
-                "film_C and film_T differ in their bore or contact law (C {} um / {} um, dH {} um / \
-                 {} um): the rotor's contact (--contact rotor, the default) has one geometry for \
-                 both bearings; run with --contact film to give each bearing its own",
-                c.bore.c_m * 1e6,
-                t.bore.c_m * 1e6,
-                c.bore.dh_m * 1e6,
-                t.bore.dh_m * 1e6
+                "film_C and film_T differ in their bore or contact law ({}): the rotor's contact \
+                 (--contact rotor, the default) has one geometry for both bearings; run with \
+                 --contact film to give each bearing its own",
+                bore_differences(&c, &t).join(", ")
             ));
         }
         Ok(())
@@ -568,6 +607,54 @@ pub fn describe_bearings(s: &RunupSettings) -> Result<String, String> {
     ))
 }
 
+/// The bore and contact-law quantities in which two films differ, "C 20 um / 22 um" (C's value
+/// first), in the units of a design file.
+fn bore_differences(c: &fmu_airfilm::BearingParams, t: &fmu_airfilm::BearingParams) -> Vec<String> {
+    let (bc, bt) = (&c.bore, &t.bore);
+    let quantities = [
+        ("r", bc.r_m * 1e3, bt.r_m * 1e3, "mm"),
+        ("b", bc.b_m * 1e3, bt.b_m * 1e3, "mm"),
+        ("C", bc.c_m * 1e6, bt.c_m * 1e6, "um"),
+        ("dH", bc.dh_m * 1e6, bt.dh_m * 1e6, "um"),
+        (
+            "phi_t",
+            bc.phi_t_rad.to_degrees(),
+            bt.phi_t_rad.to_degrees(),
+            "deg",
+        ),
+        (
+            "alpha",
+            bc.alpha_rad.to_degrees(),
+            bt.alpha_rad.to_degrees(),
+            "deg",
+        ),
+        ("n_lobes", bc.n_lobes as f64, bt.n_lobes as f64, ""),
+        ("h_con_rel", c.contact.h_con_rel, t.contact.h_con_rel, ""),
+        (
+            "c_con",
+            c.contact.c_con_n_per_m3,
+            t.contact.c_con_n_per_m3,
+            "N/m^3",
+        ),
+    ];
+    let mut differ: Vec<String> = quantities
+        .iter()
+        .filter(|(_, a, b, _)| a != b)
+        .map(|(name, a, b, unit)| {
+            let unit = if unit.is_empty() {
+                String::new()
+            } else {
+                format!(" {unit}")
+            };
+            format!("{name} {}{unit} / {}{unit}", fmt_number(*a), fmt_number(*b))
+        })
+        .collect();
+    if bc.plain_bore != bt.plain_bore {
+        differ.push(format!("plain_bore {} / {}", bc.plain_bore, bt.plain_bore));
+    }
+    differ
+}
+
 /// The films' mesh as their FMUs get it, "film mesh 20 x 3 per lobe", why where the run-up chose
 /// it, "(for the largest bearing number 8.8; the paper's is 20 x 6)", and the films' time
 /// integration tolerance as their FMUs get it too, ", film tolerance 1e-3 / 100 Pa".
@@ -726,6 +813,20 @@ pub fn film_mesh_for(lambda: f64) -> (u32, u32) {
     };
     (20, n_z)
 }
+
+/// A number as a message shows it: plainly where that is short, else with an exponent ("1e-300"
+/// rather than 300 digits, "2e16" rather than seventeen).
+pub fn fmt_number(x: f64) -> String {
+    if x == 0.0 || !x.is_finite() || (1e-4..1e9).contains(&x.abs()) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
+/// The highest rotor speed a run-up takes [Hz]: ten times the paper's top speed. Far above it the
+/// model has no meaning, and the calm-step planning would analyse a speed every 50 Hz up to it.
+pub const MAX_SPEED_HZ: f64 = 20_000.0;
 
 /// Default interval of the recorded time series [us].
 pub const DEFAULT_OUTPUT_INTERVAL_US: f64 = 50.0;

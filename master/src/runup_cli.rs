@@ -11,7 +11,7 @@ pub struct RunupArgs {
     /// The rotor and its bearings (shared with `airring stability`).
     #[command(flatten)]
     pub bearing: crate::design::DesignArgs,
-    /// Final speed [Hz].
+    /// Final speed [Hz] (at most 20000)
     #[arg(long)]
     pub f_max: Option<f64>,
     /// Run-up duration to f_max [s].
@@ -53,7 +53,8 @@ pub struct RunupArgs {
     /// Seed of the disturbance generator (other seeds: independent realisations).
     #[arg(long)]
     pub disturbance_seed: Option<u32>,
-    /// Output interval [us].
+    /// Interval of the recorded time series [us]: a whole number of macro steps (rows are
+    /// written at macro steps) [default: 50, or the most macro steps within 50 us]
     #[arg(long)]
     pub output_interval: Option<f64>,
     /// Jacobi instead of Gauss-Seidel.
@@ -145,7 +146,21 @@ pub fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     }
     s.extrapolation_order = a.extrapolation_order.unwrap_or(s.extrapolation_order);
     s.interpolation_order = a.interpolation_order.unwrap_or(s.interpolation_order);
-    s.output_interval_us = a.output_interval.unwrap_or(s.output_interval_us);
+    s.output_interval_us = match a.output_interval {
+        Some(v) => v,
+        // The default interval where it is a whole number of macro steps, else the largest such
+        // number of steps within it (at least one): rows are written at macro steps only.
+        None => {
+            let steps = (s.output_interval_us / s.macro_step_us + 1e-9)
+                .floor()
+                .max(1.0);
+            if s.macro_step_us.is_finite() && s.macro_step_us > 0.0 {
+                steps * s.macro_step_us
+            } else {
+                s.output_interval_us
+            }
+        }
+    };
     s.disturbance_mn = a.disturbance.unwrap_or(s.disturbance_mn);
     s.disturbance_seed = a.disturbance_seed.unwrap_or(s.disturbance_seed);
     s.jacobi = a.jacobi;
@@ -168,6 +183,19 @@ pub fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     // Checked first, so that a parameter that does not map is reported with its flag; every
     // mesh the run-up chooses passes the same checks.
     s.validate()?;
+    // The rotor's speed as its FMU gets it: a `--set rotor.f_max` or `rotor.t_ramp` replaces the
+    // flags' values in the FMU, and the settings (the run-up's first line, summary.json, the
+    // default stop time) say what runs.
+    if s.speed_profile.is_empty() {
+        let rotor = s.rotor_params()?;
+        if (rotor.f_max_hz, rotor.t_ramp_s) != (s.f_max_hz, s.t_ramp_s) {
+            (s.f_max_hz, s.t_ramp_s) = (rotor.f_max_hz, rotor.t_ramp_s);
+            if a.stop.is_none() {
+                s.stop_time_s = s.t_ramp_s;
+            }
+            s.validate()?;
+        }
+    }
     if a.bearing.mesh.is_none() {
         s.choose_film_mesh()?;
     }
@@ -305,5 +333,111 @@ mod tests {
             line,
             "film mesh 20 x 6 per lobe, film tolerance 1e-3 / 100 Pa (C) / 1e-4 / 100 Pa (T)"
         );
+    }
+
+    /// With the contact in the rotor both films must share one bore; the refusal names each
+    /// quantity that differs, with both values in a design file's units, and only those.
+    #[test]
+    fn a_refused_pair_of_bores_names_what_differs() {
+        let refusal = |flags: &[&str]| {
+            let argv: Vec<String> = std::iter::once("runup")
+                .chain(flags.iter().copied())
+                .map(String::from)
+                .collect();
+            check_argv(&argv).unwrap_err()
+        };
+        let e = refusal(&["--set", "film_T.C=22 um"]);
+        assert!(e.contains("(C 20 um / 22 um)"), "{e}");
+        let e = refusal(&["--set", "film_T.r=16 mm", "--set", "film_C.c_con=2e16"]);
+        assert!(
+            e.contains("(r 15 mm / 16 mm, c_con 2e16 N/m^3 / 1e16 N/m^3)"),
+            "{e}"
+        );
+        assert!(e.contains("--contact film"), "{e}");
+        let argv: Vec<String> = ["runup", "--set", "film_T.C=22 um", "--contact", "film"]
+            .map(String::from)
+            .to_vec();
+        assert!(check_argv(&argv).is_ok());
+    }
+
+    /// A `--set` of the rotor's speed is what the run-up reports and runs to.
+    #[test]
+    fn the_rotor_speed_set_through_set_is_the_run_ups_own() {
+        let s = settings_of(&["--set", "rotor.t_ramp=0.5", "--set", "rotor.f_max=500 Hz"]);
+        assert_eq!((s.f_max_hz, s.t_ramp_s, s.stop_time_s), (500.0, 0.5, 0.5));
+        assert!(
+            s.describe_speed().starts_with("0 -> 500 Hz in 0.5 s"),
+            "{}",
+            s.describe_speed()
+        );
+        let s = settings_of(&["--set", "rotor.t_ramp=0.5", "--stop", "0.1"]);
+        assert_eq!((s.f_max_hz, s.t_ramp_s, s.stop_time_s), (2000.0, 0.5, 0.1));
+        // Without such a --set the flags' values stand.
+        let s = settings_of(&["--f-max", "1500", "--t-ramp", "2"]);
+        assert_eq!((s.f_max_hz, s.t_ramp_s, s.stop_time_s), (1500.0, 2.0, 2.0));
+    }
+
+    /// Rows are written at macro steps only: the default interval follows the macro step, and an
+    /// interval of the user's that is not a whole number of macro steps is refused.
+    #[test]
+    fn the_output_interval_is_a_whole_number_of_macro_steps() {
+        for (step, interval) in [
+            ("50", 50.0),
+            ("20", 40.0),
+            ("33", 33.0),
+            ("100", 100.0),
+            ("10", 50.0),
+        ] {
+            let s = settings_of(&["--macro-step", step]);
+            assert_eq!(s.output_interval_us, interval, "--macro-step {step}");
+        }
+        for (step, interval) in [("50", "73"), ("50", "1"), ("20", "50")] {
+            let argv: Vec<String> = ["runup", "--macro-step", step, "--output-interval", interval]
+                .map(String::from)
+                .to_vec();
+            let e = check_argv(&argv).unwrap_err();
+            assert!(
+                e.starts_with(&format!("--output-interval = {interval} us must be a whole number of macro steps ({step} us)")),
+                "{e}"
+            );
+        }
+        let s = settings_of(&["--macro-step", "20", "--output-interval", "100"]);
+        assert_eq!(s.output_interval_us, 100.0);
+    }
+
+    /// Values no run-up can mean are refused with the flag, the value and the bound.
+    #[test]
+    fn impossible_speeds_meshes_and_infinities_are_refused_by_name() {
+        let refusal = |flags: &[&str]| {
+            let argv: Vec<String> = std::iter::once("runup")
+                .chain(flags.iter().copied())
+                .map(String::from)
+                .collect();
+            check_argv(&argv).unwrap_err()
+        };
+        let e = refusal(&["--f-max", "1e9"]);
+        assert!(e.starts_with("--f-max: 1e9 Hz is above 20000 Hz"), "{e}");
+        let e = refusal(&["--profile", "0:0,1:30000"]);
+        assert!(
+            e.starts_with("--profile: 30000 Hz is above 20000 Hz"),
+            "{e}"
+        );
+        let e = refusal(&["--set", "rotor.f_max=25000 Hz"]);
+        assert!(e.starts_with("--f-max: 25000 Hz is above 20000 Hz"), "{e}");
+        assert!(check_argv(&["runup".into(), "--f-max".into(), "20000".into()]).is_ok());
+        let e = refusal(&["--clearance", "inf"]);
+        assert_eq!(e, "--clearance = inf um must be a finite number > 0");
+        let e = refusal(&["--dh", "inf"]);
+        assert_eq!(e, "--dh = inf um must be a finite number >= 0");
+        let e = refusal(&["--dh", "1e6"]);
+        assert_eq!(e, "--dh = 1000000 um must lie between 0 um and 10000 um");
+        let e = refusal(&["--clearance", "1e-6"]);
+        assert_eq!(
+            e,
+            "--clearance = 1e-6 um must lie between 0.01 um and 10000 um"
+        );
+        let e = refusal(&["--mesh", "3x2"]);
+        assert!(e.contains("at least 4x2 elements per lobe"), "{e}");
+        assert!(check_argv(&["runup".into(), "--mesh".into(), "4x2".into()]).is_ok());
     }
 }

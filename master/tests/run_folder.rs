@@ -92,7 +92,11 @@ fn a_folder_holding_a_run_is_kept_until_a_new_run_has_started() {
     for (extra, env, expect) in [
         (vec!["--set", "film.eta=-1"], vec![], "eta"),
         (vec!["--set", "film.p_a=1e300"], vec![], "p_a"),
-        (vec!["--output-interval", "1e-300"], vec![], "output rows"),
+        (
+            vec!["--output-interval", "1e-300"],
+            vec![],
+            "--output-interval = 1e-300 us must be a whole number of macro steps",
+        ),
         (
             vec![],
             vec![("AIRRING_MEMORY_LIMIT", "1000")],
@@ -154,6 +158,12 @@ fn a_run_of_a_few_output_rows_is_too_short_not_unclassified() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["classification"], "too_short", "{summary}");
+    // A completed run has nothing to resume, and says so.
+    let (ok, err) = airring(&["resume", dir.to_str().unwrap()], &[]);
+    assert!(
+        !ok && err.contains("the run completed (summary.json): nothing to resume"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

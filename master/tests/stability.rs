@@ -301,7 +301,7 @@ fn unbalance_response_matches_a_nonlinear_runup_in_the_linear_regime() {
         "--stop",
         "0.7",
         "--output-interval",
-        "20",
+        "50",
         "--quiet",
         "--out",
         n,

@@ -17,11 +17,13 @@ pub struct StabilityArgs {
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Compressor-wheel imbalance "mass_g,radius_mm,phase_deg": adds the unbalance response
-    /// (amplitude and phase of journals and rings, critical speeds) to the report.
-    #[arg(long, allow_hyphen_values = true)]
+    /// (amplitude and phase of journals and rings, critical speeds) to the report. Also
+    /// --imbalance-c, the run-up's name.
+    #[arg(long, visible_alias = "imbalance-c", allow_hyphen_values = true)]
     pub unbalance_c: Option<String>,
-    /// Turbine-wheel imbalance "mass_g,radius_mm,phase_deg" (see --unbalance-c).
-    #[arg(long, allow_hyphen_values = true)]
+    /// Turbine-wheel imbalance "mass_g,radius_mm,phase_deg" (see --unbalance-c). Also
+    /// --imbalance-t.
+    #[arg(long, visible_alias = "imbalance-t", allow_hyphen_values = true)]
     pub unbalance_t: Option<String>,
 }
 

@@ -256,10 +256,25 @@ fn ensure_summary(dir: &Path, code: Option<i32>, stale: Option<&str>) {
     if fresh {
         return;
     }
+    let exit = code.map_or("no exit code (killed by a signal)".into(), |c| {
+        format!("exit code {c}")
+    });
+    let why =
+        last_error_line(&dir.join("runup.log")).map_or(String::new(), |line| format!(": {line}"));
     let _ = RunSummary::failure(format!(
-        "the run-up ended with exit code {code:?} and wrote no summary; see runup.log"
+        "the run-up ended with {exit} and wrote no summary{why} (runup.log)"
     ))
     .write(dir);
+}
+
+/// The run-up's own error message, its log's last line that starts with "airring: " (prefix
+/// removed), for a run that ended before it wrote a summary.
+fn last_error_line(log: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(log).ok()?;
+    text.lines()
+        .rev()
+        .find_map(|l| l.strip_prefix("airring: "))
+        .map(|l| l.trim().to_string())
 }
 
 fn stem_for(shard: Option<(usize, usize)>) -> (String, String) {
@@ -350,13 +365,20 @@ pub fn sweep(study: &Study, study_text: &str, opts: &SweepOptions) -> Result<Swe
                     finished += 1;
                     changed = true;
                     if !opts.quiet {
-                        let line = format!(
-                            "[{finished}/{n_todo}] {}: {st}, {}, onset {} Hz, {:.0} s",
+                        let mut line = format!(
+                            "[{finished}/{n_todo}] {}: {st}, {}, onset {} Hz, {} s",
                             r.spec.name,
                             s.classification.as_deref().unwrap_or("-"),
                             s.onset_speed_hz.map_or("-".into(), |v| format!("{v:.0}")),
-                            s.wall_time_s.unwrap_or(f64::NAN)
+                            s.wall_time_s.map_or("-".into(), |v| format!("{v:.0}"))
                         );
+                        if let Some(e) = s
+                            .error
+                            .as_deref()
+                            .filter(|_| s.status != RunStatus::Completed)
+                        {
+                            line += &format!(" ({e})");
+                        }
                         if tty {
                             eprint!("\r\x1b[2K");
                         }
@@ -464,13 +486,27 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         let status = || read_json(&dir.join("summary.json")).unwrap()["status"].clone();
-        // None written: a failure summary naming the exit code.
+        let error = || read_json(&dir.join("summary.json")).unwrap()["error"].clone();
+        // None written: a failure summary naming the exit code, and the run-up's own error
+        // where its log has one (the last "airring: " line).
         ensure_summary(&dir, Some(3), None);
         assert_eq!(status(), "failed");
-        assert!(read_json(&dir.join("summary.json")).unwrap()["error"]
-            .as_str()
-            .unwrap()
-            .contains("Some(3)"));
+        assert_eq!(
+            error(),
+            "the run-up ended with exit code 3 and wrote no summary (runup.log)"
+        );
+        std::fs::write(
+            dir.join("runup.log"),
+            "airring: an earlier line\nprogress\nairring: no rotor.fmu in /x\n\n",
+        )
+        .unwrap();
+        std::fs::remove_file(dir.join("summary.json")).unwrap();
+        ensure_summary(&dir, None, None);
+        assert_eq!(
+            error(),
+            "the run-up ended with no exit code (killed by a signal) and wrote no summary: no \
+             rotor.fmu in /x (runup.log)"
+        );
         // A resumed run that left the interrupted summary as it was: failed too.
         let stale = r#"{"status": "interrupted"}"#;
         std::fs::write(dir.join("summary.json"), stale).unwrap();

@@ -597,9 +597,15 @@ d = 50
     fn studies_are_checked_completely_when_read() {
         for (text, why) in [
             ("[[grid]]\nc = [\"abc\"]\n", "invalid value 'abc'"),
-            ("[[grid]]\nc = [500, -5]\n", "--c = -5 N/mm must be >= 0"),
+            (
+                "[[grid]]\nc = [500, -5]\n",
+                "--c = -5 N/mm must be a finite number >= 0",
+            ),
             ("[[grid]]\nmesh = \"8by2\"\n", "expected NxM"),
-            ("[fixed]\nstop = 0\n", "--stop = 0 s must be > 0"),
+            (
+                "[fixed]\nstop = 0\n",
+                "--stop = 0 s must be a finite number > 0",
+            ),
             ("[[grid]]\npreset = [\"..\"]\n", "unknown preset '..'"),
             ("name = \"../../../../x\"\n", "may not start with a dot"),
             ("name = \"a/b\"\n", "only letters"),
