@@ -440,4 +440,29 @@ mod tests {
         assert!(e.contains("at least 4x2 elements per lobe"), "{e}");
         assert!(check_argv(&["runup".into(), "--mesh".into(), "4x2".into()]).is_ok());
     }
+
+    /// The design file of docs/design.md, as printed there, runs as a run-up with the default
+    /// flags (it once held a second bore, which only `--contact film` takes).
+    #[test]
+    fn the_design_example_in_the_docs_runs_with_the_default_flags() {
+        let doc = include_str!("../../docs/design.md");
+        let start = doc
+            .find("```toml\n")
+            .expect("a TOML block in docs/design.md")
+            + 8;
+        let end = start + doc[start..].find("```").unwrap();
+        let path =
+            std::env::temp_dir().join(format!("airring-design-doc-{}.toml", std::process::id()));
+        std::fs::write(&path, &doc[start..end]).unwrap();
+        let argv: Vec<String> = ["runup", "--design", path.to_str().unwrap()]
+            .map(String::from)
+            .to_vec();
+        let s = check_argv(&argv);
+        let _ = std::fs::remove_file(&path);
+        let s = s.unwrap();
+        assert!(s
+            .fmu_parameters
+            .iter()
+            .any(|(k, v)| k == "rotor.d_T" && v.contains("80")));
+    }
 }

@@ -224,3 +224,32 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
     }
     Ok(v)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::Parser;
+
+    #[derive(Parser)]
+    struct Flags {
+        #[command(flatten)]
+        args: StabilityArgs,
+    }
+
+    /// The run-up's names of the imbalance flags work here too.
+    #[test]
+    fn imbalance_flags_take_the_run_ups_names_too() {
+        for (c, t) in [
+            ("--unbalance-c", "--unbalance-t"),
+            ("--imbalance-c", "--imbalance-t"),
+        ] {
+            let f = Flags::try_parse_from(["stability", c, "0.01,20,0", t, "0.02,20,90"]).unwrap();
+            let s = settings(&f.args).unwrap();
+            assert_eq!(
+                (s.imbalance_c, s.imbalance_t),
+                ((0.01, 20.0, 0.0), (0.02, 20.0, 90.0)),
+                "{c}"
+            );
+        }
+    }
+}
