@@ -507,7 +507,7 @@ fn main() -> ExitCode {
                 bores: None,
                 parquet: common.parquet,
             };
-            let report = new_run(&staged.path, &opts)?;
+            let report = new_run(&staged.path, &opts).map_err(|e| staged.strip_path(e))?;
             Ok(finish(report, &out))
         }
         Command::Run {

@@ -73,6 +73,23 @@ impl StagedSystem {
     }
 }
 
+impl StagedSystem {
+    /// `error` without the staged file's "PATH:LINE: " prefix: the file is gone once the run
+    /// has failed (it is the run-up's own, generated from its flags), so the prefix would name
+    /// a file the user cannot open; what the error says of the parameter or FMU stays.
+    pub fn strip_path(&self, error: String) -> String {
+        let prefix = format!("{}:", self.path.display());
+        let Some(rest) = error.strip_prefix(&prefix) else {
+            return error;
+        };
+        let after_line = rest.trim_start_matches(|c: char| c.is_ascii_digit());
+        match after_line.strip_prefix(": ") {
+            Some(tail) if after_line.len() < rest.len() => tail.to_string(),
+            _ => rest.trim_start().to_string(),
+        }
+    }
+}
+
 /// Removes the staged system files in `tmp` whose process is gone: a run killed before its
 /// run folder took the file (SIGKILL, a batch system's time limit) cannot drop it. Only where
 /// processes are visible in /proc (Linux); a file of a live process, or one whose name does not
@@ -206,6 +223,23 @@ fn is_plain_file_name(name: &str) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A run-up's error names what went wrong, not the generated file that is gone.
+    #[test]
+    fn a_staged_system_files_path_is_left_out_of_errors() {
+        let staged = StagedSystem {
+            path: PathBuf::from("/tmp/airring-system-1-2.toml"),
+        };
+        let e = "/tmp/airring-system-1-2.toml:4: fmu.path: /x/rotor.fmu: not a valid FMU archive";
+        assert_eq!(
+            staged.strip_path(e.into()),
+            "fmu.path: /x/rotor.fmu: not a valid FMU archive"
+        );
+        let e = "/tmp/airring-system-1-2.toml: no such file";
+        assert_eq!(staged.strip_path(e.into()), "no such file");
+        let e = "rotor: invalid parameter c_C";
+        assert_eq!(staged.strip_path(e.into()), e);
+    }
 
     #[test]
     fn only_folder_free_names_are_plain() {
