@@ -231,17 +231,24 @@ fn real_si(var: &fmi2::Variable, t: &str) -> Result<f64, String> {
 }
 
 /// Parses and checks `--set PREFIX.NAME=VALUE` entries into (PREFIX.NAME, VALUE) pairs.
+/// The same key twice is refused: which value was meant is not for the run-up to guess.
 pub fn parse_set_flags(flags: &[String]) -> Result<Vec<(String, String)>, String> {
-    flags
-        .iter()
-        .map(|f| {
-            let (k, v) = f.split_once('=').ok_or_else(|| {
-                format!("--set '{f}': expected PREFIX.NAME=VALUE, e.g. film.eta=1.9e-5")
-            })?;
-            let p = FmuParameter::parse(k.trim(), v).map_err(|e| format!("--set {e}"))?;
-            Ok((k.trim().to_string(), p.text))
-        })
-        .collect()
+    let mut out: Vec<(String, String)> = Vec::with_capacity(flags.len());
+    for f in flags {
+        let (k, v) = f.split_once('=').ok_or_else(|| {
+            format!("--set '{f}': expected PREFIX.NAME=VALUE, e.g. film.eta=1.9e-5")
+        })?;
+        let p = FmuParameter::parse(k.trim(), v).map_err(|e| format!("--set {e}"))?;
+        if let Some((_, first)) = out.iter().find(|(key, _)| key == k.trim()) {
+            return Err(format!(
+                "--set {}: given twice ('{first}' and '{}'); give it once",
+                k.trim(),
+                p.text
+            ));
+        }
+        out.push((k.trim().to_string(), p.text));
+    }
+    Ok(out)
 }
 
 /// The store of the variable values of instance `inst` ("rotor", "film_C", "film_T"): the FMU's
@@ -316,5 +323,12 @@ mod tests {
         assert!(parse_set_flags(&["film.eta".into()])
             .unwrap_err()
             .contains("PREFIX.NAME=VALUE"));
+        assert_eq!(
+            parse_set_flags(&["film.eta=2e-5".into(), "film.eta = 1.9e-5 Pa.s".into()])
+                .unwrap_err(),
+            "--set film.eta: given twice ('2e-5' and '1.9e-5 Pa.s'); give it once"
+        );
+        // A film's own key beside both films' is another key, not a duplicate.
+        assert!(parse_set_flags(&["film.eta=2e-5".into(), "film_T.eta=1.9e-5".into()]).is_ok());
     }
 }

@@ -155,7 +155,10 @@ enum Command {
     /// first bearing, maximum eccentricities, criteria).
     Classify {
         dir: PathBuf,
-        /// Nominal clearance C [um] (default: the run's settings in summary.json, else 20).
+        /// Nominal clearance C [um] of both bearings (default: each film's, from the run folder's
+        /// system.toml). The eccentricities are the films' own where the time series records
+        /// them (film_C.eps, film_T.eps); the clearance scales the rotor's displacements where it
+        /// does not (run folders of earlier versions).
         #[arg(long)]
         clearance: Option<f64>,
     },
@@ -289,6 +292,12 @@ fn finish(report: master::run::RunReport, out: &Path) -> ExitCode {
 fn classify_command(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, String> {
     // Each bearing's clearance: the flag, else the run folder's own system file (never a default).
     let c_m = match clearance_um {
+        Some(c) if !(0.01..=1e4).contains(&c) => {
+            return Err(format!(
+                "--clearance = {} um must lie between 0.01 um and 10000 um",
+                master::runup::fmt_number(c)
+            ))
+        }
         Some(c) => [c / 1e6; 2],
         None => match master::run_folder::bores_of_run(dir)? {
             Some([c, t]) => [c.c_m, t.c_m],

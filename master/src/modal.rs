@@ -14,6 +14,32 @@ pub fn modal(
     m_r_g: f64,
     out: Option<&Path>,
 ) -> Result<serde_json::Value, String> {
+    // The flags, checked by name in their units before the rotor's own checks (which name its
+    // parameters in SI: c_C = -5000).
+    for (name, v, unit, zero_ok) in [
+        ("c", c_n_per_mm, "N/mm", true),
+        ("d", d_n_s_per_m, "N s/m", true),
+        ("m-r", m_r_g, "g", false),
+        ("film-stiffness", film_n_per_mm, "N/mm", false),
+    ] {
+        if !(v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0))) {
+            return Err(format!(
+                "--{name} = {} {unit} must be a finite number {}",
+                crate::runup::fmt_number(v),
+                if zero_ok { ">= 0" } else { "> 0" }
+            ));
+        }
+    }
+    let top = crate::runup::MAX_SPEED_HZ;
+    if let Some(f) = speeds_hz
+        .iter()
+        .find(|f| !(f.is_finite() && **f >= 0.0 && **f <= top))
+    {
+        return Err(format!(
+            "--speed {} Hz must lie between 0 and {top} Hz",
+            crate::runup::fmt_number(*f)
+        ));
+    }
     let mut p = RotorParams::paper();
     p.c_c_n_m = c_n_per_mm * 1e3;
     p.c_t_n_m = c_n_per_mm * 1e3;
@@ -22,16 +48,10 @@ pub fn modal(
     p.m_r_c_kg = m_r_g * 1e-3;
     p.m_r_t_kg = m_r_g * 1e-3;
     p.validate().map_err(|e| e.to_string())?;
-    if !(film_n_per_mm.is_finite() && film_n_per_mm > 0.0) {
-        return Err(format!("--film-stiffness {film_n_per_mm} N/mm must be > 0"));
-    }
     let film = FilmCoefficients::isotropic(film_n_per_mm * 1e3, 0.0);
     let mut table = vec![];
     println!("modal analysis: c = {c_n_per_mm} N/mm, d = {d_n_s_per_m} N s/m, film springs {film_n_per_mm} N/mm, m_R = {m_r_g} g");
     for &f in speeds_hz {
-        if !(f.is_finite() && f >= 0.0) {
-            return Err(format!("--speed {f} Hz must be >= 0"));
-        }
         let lm = lateral_matrices(&p, f * std::f64::consts::TAU, &[film, film]);
         let ms = modes(&lm).map_err(|e| e.to_string())?;
         println!("speed {f} Hz:");
@@ -181,5 +201,40 @@ mod tests {
         assert_eq!(red, 4, "forward whirl segments");
         let bad = crate::plot::layout::problems(&svg);
         assert!(bad.is_empty(), "{bad:#?}");
+    }
+
+    /// Flags are refused by their names, in their units, before anything is printed.
+    #[test]
+    fn bad_flags_are_refused_by_name_in_their_units() {
+        for (args, why) in [
+            (
+                (vec![100.0], -5.0, 50.0, 1000.0, 50.0),
+                "--c = -5 N/mm must be a finite number >= 0",
+            ),
+            (
+                (vec![100.0], 1000.0, f64::NAN, 1000.0, 50.0),
+                "--d = NaN N s/m must be",
+            ),
+            (
+                (vec![100.0], 1000.0, 50.0, 1000.0, 0.0),
+                "--m-r = 0 g must be a finite number > 0",
+            ),
+            (
+                (vec![100.0], 1000.0, 50.0, 0.0, 50.0),
+                "--film-stiffness = 0 N/mm must be",
+            ),
+            (
+                (vec![100.0, 1e12], 1000.0, 50.0, 1000.0, 50.0),
+                "--speed 1e12 Hz must lie between 0 and 20000 Hz",
+            ),
+            (
+                (vec![-1.0], 1000.0, 50.0, 1000.0, 50.0),
+                "--speed -1 Hz must lie",
+            ),
+        ] {
+            let (speeds, c, d, film, m_r) = args;
+            let e = modal(&speeds, c, d, film, m_r, None).unwrap_err();
+            assert!(e.starts_with(why), "{e}");
+        }
     }
 }

@@ -386,6 +386,15 @@ pub fn run_cli(a: &OrbitArgs) -> Result<(), String> {
     if !(a.step.is_finite() && a.step > 0.0) {
         return Err(format!("--step {} us must be > 0", a.step));
     }
+    let (first, last) = (table.t_s[0], *table.t_s.last().expect("at least one row"));
+    if a.start < first || stop > last {
+        // FMPy holds the inputs outside the table too; said, since it is rarely meant.
+        eprintln!(
+            "note: the run ({} s to {stop} s) reaches outside the input table ({first} s to \
+             {last} s); the inputs are held at the table's end values there, as FMPy holds them",
+            a.start
+        );
+    }
     // "10" us -> the double nearest 1e-5 s, as FMPy's output_interval=1e-5.
     let interval_s = a.step / 1e6;
     let wall = std::time::Instant::now();

@@ -158,6 +158,15 @@ fn a_run_of_a_few_output_rows_is_too_short_not_unclassified() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["classification"], "too_short", "{summary}");
+    // A clearance no bore can have is refused in its unit.
+    let (ok, err) = airring(
+        &["classify", dir.to_str().unwrap(), "--clearance", "1e-9"],
+        &[],
+    );
+    assert!(
+        !ok && err.contains("--clearance = 1e-9 um must lie between 0.01 um and 10000 um"),
+        "{err}"
+    );
     // A completed run has nothing to resume, and says so.
     let (ok, err) = airring(&["resume", dir.to_str().unwrap()], &[]);
     assert!(
