@@ -121,10 +121,12 @@ const FILM_KEYS: &[&str] = &[
 /// Bearing keys that are rotor.fmu parameters per bearing: (design key, rotor name without _C/_T).
 const MOUNT_KEYS: &[(&str, &str)] = &[("mount_c", "c"), ("mount_d", "d"), ("ring_mass", "m_R")];
 
-/// A design: its FMU parameter entries (PREFIX.NAME, value text), in the order they apply.
+/// A design: its FMU parameter entries (PREFIX.NAME, value text), in the order they apply, and
+/// where in the file each came from ("[bearing] mount_c").
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Design {
     pub entries: Vec<(String, String)>,
+    pub sources: Vec<String>,
 }
 
 impl Design {
@@ -228,21 +230,74 @@ impl Design {
     fn push(&mut self, key: String, text: &str, at: &str) -> Result<(), String> {
         FmuParameter::parse(&key, text).map_err(|e| format!("{at}: {e}"))?;
         self.entries.push((key, text.to_string()));
+        self.sources.push(at.to_string());
         Ok(())
+    }
+
+    /// Where the design sets variable `name` of FMU instance `inst` ("rotor", "film_C",
+    /// "film_T"): the last entry that does (later ones override), as "[bearing] mount_c".
+    /// With the entry itself (key, value text).
+    pub fn source_of(&self, inst: &str, name: &str) -> Option<(&(String, String), &str)> {
+        self.entries
+            .iter()
+            .zip(&self.sources)
+            .rev()
+            .find(|((key, _), _)| applies_to(key, inst, name))
+            .map(|(entry, at)| (entry, at.as_str()))
     }
 
     /// The entries without those that set any of the FMU variables `keys` (for a flag that
     /// overrides the design, e.g. --clearance removes film.C, film_C.C and film_T.C).
     pub fn without(&self, keys: &[&str]) -> Design {
-        Design {
-            entries: self
-                .entries
-                .iter()
-                .filter(|(k, _)| !keys.iter().any(|x| covers(x, k)))
-                .cloned()
-                .collect(),
-        }
+        let (entries, sources) = self
+            .entries
+            .iter()
+            .zip(&self.sources)
+            .filter(|((k, _), _)| !keys.iter().any(|x| covers(x, k)))
+            .map(|(e, at)| (e.clone(), at.clone()))
+            .unzip();
+        Design { entries, sources }
     }
+}
+
+/// Does the entry key `key` ("film.C", "film_T.C", "rotor.c_C") set variable `name` of FMU
+/// instance `inst`?
+fn applies_to(key: &str, inst: &str, name: &str) -> bool {
+    key.split_once('.').is_some_and(|(prefix, n)| {
+        n == name && (prefix == inst || (prefix == "film" && inst.starts_with("film_")))
+    })
+}
+
+/// `error`, from the FMUs' own parameter checks ("rotor: invalid parameter c_C = -5000: ..."),
+/// with the design file and the entry that set that parameter in front, where the design file
+/// `path` set it and no later `--set` (in `parameters`, the run-up's after the design's) did.
+pub fn blame(path: &Path, parameters: &[(String, String)], error: String) -> String {
+    let Some((inst, rest)) = error.split_once(": ") else {
+        return error;
+    };
+    let Some(name) = rest
+        .split_once("parameter ")
+        .and_then(|(_, r)| r.split_once(" = "))
+        .map(|(n, _)| n.to_string())
+    else {
+        return error;
+    };
+    let Ok(design) = Design::load(path) else {
+        return error;
+    };
+    let Some((entry, at)) = design.source_of(inst, &name) else {
+        return error;
+    };
+    // The last of the run-up's parameters that sets the variable is the value the FMU checked:
+    // the design's entry, unless a --set came after it (or a flag replaced it: then none).
+    let last = parameters
+        .iter()
+        .rev()
+        .find(|(k, _)| applies_to(k, inst, &name));
+    if last != Some(entry) {
+        return error;
+    }
+    format!("{}: {at}: {error}", path.display())
 }
 
 /// Does the flag key `flag` ("film.C", "rotor.c_C") set the same variable as the entry `entry`?
@@ -328,5 +383,45 @@ m = "4.5 kg"
                 "{text}: {e}"
             );
         }
+    }
+
+    /// An FMU's refusal of a value the design file set names the file and the entry; not where
+    /// a flag or a later --set gave the value.
+    #[test]
+    fn a_refused_design_value_names_the_file_and_entry() {
+        let path = std::env::temp_dir().join(format!("airring-blame-{}.toml", std::process::id()));
+        std::fs::write(
+            &path,
+            "[bearing]\nmount_c = \"-5 N/mm\"\n[bearing.T]\nC = \"50 mm\"\n",
+        )
+        .unwrap();
+        let design = Design::load(&path).unwrap();
+        let rotor_error = "rotor: invalid parameter c_C = -5000: must be >= 0".to_string();
+        let film_error =
+            "film_T: invalid air-film parameter C = 0.05: must lie between".to_string();
+        let p = path.display();
+        assert_eq!(
+            blame(&path, &design.entries, rotor_error.clone()),
+            format!("{p}: [bearing] mount_c: {rotor_error}")
+        );
+        assert_eq!(
+            blame(&path, &design.entries, film_error.clone()),
+            format!("{p}: [bearing.T] C: {film_error}")
+        );
+        // A later --set of the same variable is what the FMU refused.
+        let mut with_set = design.entries.clone();
+        with_set.push(("rotor.c_C".into(), "-3 N/mm".into()));
+        assert_eq!(blame(&path, &with_set, rotor_error.clone()), rotor_error);
+        // A flag that replaced the design's value removed its entry.
+        let flagged = design.without(&["rotor.c_C", "rotor.c_T"]);
+        assert_eq!(
+            blame(&path, &flagged.entries, rotor_error.clone()),
+            rotor_error
+        );
+        assert_eq!(flagged.entries.len(), flagged.sources.len());
+        // An error about something else is left as it is.
+        let other = "rotor: invalid parameter m = 0: mass must be > 0".to_string();
+        assert_eq!(blame(&path, &design.entries, other.clone()), other);
+        let _ = std::fs::remove_file(&path);
     }
 }

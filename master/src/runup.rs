@@ -251,14 +251,30 @@ impl RunupSettings {
         }
         // The FMUs' own checks of the parameters they will get, so that a study's `--list`
         // refuses what the FMUs would refuse at the start of each run.
+        self.validate_fmu_parameters()?;
+        self.check_contact_geometry()
+    }
+
+    /// The air films' and the rotor's own checks of the parameters they will get; a refusal of
+    /// a value the design file set names the file and its entry.
+    pub fn validate_fmu_parameters(&self) -> Result<(), String> {
         let [c, t] = self.film_params()?;
         for (inst, p) in [("film_C", c), ("film_T", t)] {
-            p.validate().map_err(|e| format!("{inst}: {e}"))?;
+            p.validate()
+                .map_err(|e| self.blame_design(format!("{inst}: {e}")))?;
         }
         self.rotor_params()?
             .validate()
-            .map_err(|e| format!("rotor: {e}"))?;
-        self.check_contact_geometry()
+            .map_err(|e| self.blame_design(format!("rotor: {e}")))
+    }
+
+    /// An FMU's refusal of a parameter, with the design file and its entry in front where the
+    /// design file set it (`crate::design::blame`).
+    fn blame_design(&self, error: String) -> String {
+        match &self.design {
+            Some(path) => crate::design::blame(path, &self.fmu_parameters, error),
+            None => error,
+        }
     }
 
     /// The extra FMU parameters, checked against the FMUs' variable tables. The rotor's

@@ -38,6 +38,7 @@ pub fn settings(a: &StabilityArgs) -> Result<RunupSettings, String> {
         s.imbalance_t = super::unbalance::parse_imbalance(t, "unbalance-t")?;
     }
     s.validate()?;
+    s.validate_fmu_parameters()?;
     Ok(s)
 }
 
