@@ -198,8 +198,13 @@ impl RunupSettings {
                 )
             })?;
         }
-        if self.extrapolation_order > 2 || self.interpolation_order > 2 {
-            return Err("polynomial orders must be 0, 1 or 2".into());
+        for (name, order) in [
+            ("extrapolation-order", self.extrapolation_order),
+            ("interpolation-order", self.interpolation_order),
+        ] {
+            if order > 2 {
+                return Err(format!("--{name} = {order} must be 0, 1 or 2"));
+            }
         }
         // The air-film FMU's own lower bounds (n_elem_phi >= 4, n_elem_z >= 2).
         if self.n_elem_phi < 4 || self.n_elem_z < 2 {

@@ -436,6 +436,8 @@ mod tests {
             e,
             "--clearance = 1e-6 um must lie between 0.01 um and 10000 um"
         );
+        let e = refusal(&["--interpolation-order", "3"]);
+        assert_eq!(e, "--interpolation-order = 3 must be 0, 1 or 2");
         let e = refusal(&["--mesh", "3x2"]);
         assert!(e.contains("at least 4x2 elements per lobe"), "{e}");
         assert!(check_argv(&["runup".into(), "--mesh".into(), "4x2".into()]).is_ok());
