@@ -231,12 +231,21 @@ pub fn check_argv(argv: &[String]) -> Result<RunupSettings, String> {
 mod tests {
     use super::*;
 
-    fn settings_of(flags: &[&str]) -> RunupSettings {
+    /// `airring runup FLAGS` through the run-up's own checks.
+    fn checked(flags: &[&str]) -> Result<RunupSettings, String> {
         let argv: Vec<String> = std::iter::once("runup")
             .chain(flags.iter().copied())
             .map(String::from)
             .collect();
-        check_argv(&argv).unwrap()
+        check_argv(&argv)
+    }
+
+    fn settings_of(flags: &[&str]) -> RunupSettings {
+        checked(flags).unwrap()
+    }
+
+    fn refusal(flags: &[&str]) -> String {
+        checked(flags).unwrap_err()
     }
 
     /// Lambda = 6 eta Omega r^2 / (p_a C^2) with the paper's r = 15 mm, eta = 20.936e-6 Pa s and
@@ -313,8 +322,7 @@ mod tests {
             assert_eq!((f.n_elem_phi, f.n_elem_z), (20, 5));
         }
         // A bad film parameter is reported with its flag, not as a mesh problem.
-        let argv: Vec<String> = ["runup", "--set", "film.eta=-1"].map(String::from).to_vec();
-        let e = check_argv(&argv).unwrap_err();
+        let e = refusal(&["--set", "film.eta=-1"]);
         assert!(e.contains("eta"), "{e}");
     }
 
@@ -339,13 +347,6 @@ mod tests {
     /// quantity that differs, with both values in a design file's units, and only those.
     #[test]
     fn a_refused_pair_of_bores_names_what_differs() {
-        let refusal = |flags: &[&str]| {
-            let argv: Vec<String> = std::iter::once("runup")
-                .chain(flags.iter().copied())
-                .map(String::from)
-                .collect();
-            check_argv(&argv).unwrap_err()
-        };
         let e = refusal(&["--set", "film_T.C=22 um"]);
         assert!(e.contains("(C 20 um / 22 um)"), "{e}");
         let e = refusal(&["--set", "film_T.r=16 mm", "--set", "film_C.c_con=2e16"]);
@@ -354,10 +355,7 @@ mod tests {
             "{e}"
         );
         assert!(e.contains("--contact film"), "{e}");
-        let argv: Vec<String> = ["runup", "--set", "film_T.C=22 um", "--contact", "film"]
-            .map(String::from)
-            .to_vec();
-        assert!(check_argv(&argv).is_ok());
+        assert!(checked(&["--set", "film_T.C=22 um", "--contact", "film"]).is_ok());
     }
 
     /// A `--set` of the rotor's speed is what the run-up reports and runs to.
@@ -392,10 +390,7 @@ mod tests {
             assert_eq!(s.output_interval_us, interval, "--macro-step {step}");
         }
         for (step, interval) in [("50", "73"), ("50", "1"), ("20", "50")] {
-            let argv: Vec<String> = ["runup", "--macro-step", step, "--output-interval", interval]
-                .map(String::from)
-                .to_vec();
-            let e = check_argv(&argv).unwrap_err();
+            let e = refusal(&["--macro-step", step, "--output-interval", interval]);
             assert!(
                 e.starts_with(&format!("--output-interval = {interval} us must be a whole number of macro steps ({step} us)")),
                 "{e}"
@@ -408,13 +403,6 @@ mod tests {
     /// Values no run-up can mean are refused with the flag, the value and the bound.
     #[test]
     fn impossible_speeds_meshes_and_infinities_are_refused_by_name() {
-        let refusal = |flags: &[&str]| {
-            let argv: Vec<String> = std::iter::once("runup")
-                .chain(flags.iter().copied())
-                .map(String::from)
-                .collect();
-            check_argv(&argv).unwrap_err()
-        };
         let e = refusal(&["--f-max", "1e9"]);
         assert!(e.starts_with("--f-max: 1e9 Hz is above 20000 Hz"), "{e}");
         let e = refusal(&["--profile", "0:0,1:30000"]);
@@ -424,7 +412,7 @@ mod tests {
         );
         let e = refusal(&["--set", "rotor.f_max=25000 Hz"]);
         assert!(e.starts_with("--f-max: 25000 Hz is above 20000 Hz"), "{e}");
-        assert!(check_argv(&["runup".into(), "--f-max".into(), "20000".into()]).is_ok());
+        assert!(checked(&["--f-max", "20000"]).is_ok());
         let e = refusal(&["--clearance", "inf"]);
         assert_eq!(e, "--clearance = inf um must be a finite number > 0");
         let e = refusal(&["--dh", "inf"]);
@@ -440,7 +428,7 @@ mod tests {
         assert_eq!(e, "--interpolation-order = 3 must be 0, 1 or 2");
         let e = refusal(&["--mesh", "3x2"]);
         assert!(e.contains("at least 4x2 elements per lobe"), "{e}");
-        assert!(check_argv(&["runup".into(), "--mesh".into(), "4x2".into()]).is_ok());
+        assert!(checked(&["--mesh", "4x2"]).is_ok());
     }
 
     /// The design file of docs/design.md, as printed there, runs as a run-up with the default
@@ -456,10 +444,7 @@ mod tests {
         let path =
             std::env::temp_dir().join(format!("airring-design-doc-{}.toml", std::process::id()));
         std::fs::write(&path, &doc[start..end]).unwrap();
-        let argv: Vec<String> = ["runup", "--design", path.to_str().unwrap()]
-            .map(String::from)
-            .to_vec();
-        let s = check_argv(&argv);
+        let s = checked(&["--design", path.to_str().unwrap()]);
         let _ = std::fs::remove_file(&path);
         let s = s.unwrap();
         assert!(s
