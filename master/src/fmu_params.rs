@@ -112,10 +112,15 @@ impl FmuParameter {
             Value::Boolean(_) => 0.0,
         };
         if var.min.is_some_and(|m| as_f64 < m) || var.max.is_some_and(|m| as_f64 > m) {
+            let bound = |b: Option<f64>, inf: &str| match (b, var.var_type) {
+                (Some(m), VarType::Real) => quantity_text(&var, m),
+                (Some(m), _) => m.to_string(),
+                (None, _) => inf.to_string(),
+            };
             return Err(bad(&format!(
-                "outside the variable's range [{}, {}] (SI)",
-                var.min.map_or("-inf".into(), |m| m.to_string()),
-                var.max.map_or("inf".into(), |m| m.to_string())
+                "outside the variable's range [{}, {}]",
+                bound(var.min, "-inf"),
+                bound(var.max, "inf")
             )));
         }
         Ok(FmuParameter {
@@ -183,6 +188,62 @@ fn lookup(key: &str) -> Result<(Target, fmi2::Variable), String> {
             ))
         }
     }
+}
+
+/// A value of `var` in its SI unit and, where the variable declares one, its display unit:
+/// "-5000 N/m (-5 N/mm)", "2.5e-5 m (25 um)"; the bare number for a variable without a unit.
+pub fn quantity_text(var: &fmi2::Variable, si: f64) -> String {
+    let Some(unit) = var.unit else {
+        return fmt_si(si);
+    };
+    let display = var.display_unit.and_then(|d| {
+        let def = fmi2::units::unit(unit)?;
+        let (_, factor, offset) = def.display_units.iter().find(|u| u.0 == d)?;
+        Some(format!(" ({} {d})", fmt_si(si * factor + offset)))
+    });
+    format!("{} {unit}{}", fmt_si(si), display.unwrap_or_default())
+}
+
+/// Seven significant digits, without the rounding noise of a unit conversion (25, not
+/// 24.999999999999996), and with an exponent where the number is long.
+fn fmt_si(x: f64) -> String {
+    let rounded: f64 = format!("{x:.6e}").parse().unwrap_or(x);
+    crate::runup::fmt_number(rounded)
+}
+
+/// An FMU's refusal of one of its parameters ("rotor: invalid parameter c_C = -5000: must be >=
+/// 0", the libraries' SI text) with the value's units, the SI one and the display unit the
+/// FMU declares for it: "... c_C = -5000 N/m (-5 N/mm): must be >= 0". `model` is the FMU
+/// ("rotor", or a film instance); any other text is returned as it is.
+pub fn with_units(model: &str, error: String) -> String {
+    let info = if model == "rotor" {
+        RotorFmu::info()
+    } else {
+        AirFilmFmu::info()
+    };
+    let Some(at) = error.find("parameter ").map(|i| i + "parameter ".len()) else {
+        return error;
+    };
+    let rest = &error[at..];
+    let Some((name, tail)) = rest.split_once(" = ") else {
+        return error;
+    };
+    let (value_text, reason) = tail.split_once(": ").unwrap_or((tail, ""));
+    let (Ok(value), Some(var)) = (
+        value_text.parse::<f64>(),
+        info.variables.iter().find(|v| v.name == name),
+    ) else {
+        return error;
+    };
+    if var.var_type != VarType::Real || !value.is_finite() {
+        return error;
+    }
+    let sep = if reason.is_empty() { "" } else { ": " };
+    format!(
+        "{}{name} = {}{sep}{reason}",
+        &error[..at],
+        quantity_text(var, value)
+    )
 }
 
 /// Checks that `key` names a parameter of one of the run-up's FMUs.
@@ -328,7 +389,52 @@ mod tests {
                 .unwrap_err(),
             "--set film.eta: given twice ('2e-5' and '1.9e-5 Pa.s'); give it once"
         );
+        // Ranges in the variable's units.
+        let e = FmuParameter::parse("film.n_elem_z", "1").unwrap_err();
+        assert!(e.ends_with("outside the variable's range [2, 500]"), "{e}");
         // A film's own key beside both films' is another key, not a duplicate.
         assert!(parse_set_flags(&["film.eta=2e-5".into(), "film_T.eta=1.9e-5".into()]).is_ok());
+    }
+
+    /// The libraries name a refused parameter in SI, the FMU's name and a bare number; the
+    /// master adds the SI unit and the display unit the FMU declares.
+    #[test]
+    fn refusals_of_parameters_are_given_in_their_units() {
+        let cases = [
+            (
+                "rotor",
+                "rotor: invalid parameter c_C = -5000: must be >= 0",
+                "rotor: invalid parameter c_C = -5000 N/m (-5 N/mm): must be >= 0",
+            ),
+            (
+                "film_T",
+                "film_T: invalid bearing parameter C = -0.000025: must be > 0",
+                "film_T: invalid bearing parameter C = -2.5e-5 m (-25 um): must be > 0",
+            ),
+            // A unit without a display unit; an integer; a name no variable has; no value.
+            (
+                "rotor",
+                "rotor: invalid parameter d_C = -1: must be >= 0",
+                "rotor: invalid parameter d_C = -1 N.s/m: must be >= 0",
+            ),
+            (
+                "film",
+                "invalid air-film parameter n_elem_phi = 2: mesh too coarse",
+                "invalid air-film parameter n_elem_phi = 2: mesh too coarse",
+            ),
+            (
+                "film",
+                "invalid air-film parameter atol_pa = -1: must be > 0",
+                "invalid air-film parameter atol_pa = -1: must be > 0",
+            ),
+            (
+                "rotor",
+                "rotor: no parameter here",
+                "rotor: no parameter here",
+            ),
+        ];
+        for (model, libraries, shown) in cases {
+            assert_eq!(with_units(model, libraries.into()), shown);
+        }
     }
 }

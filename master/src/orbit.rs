@@ -305,7 +305,9 @@ pub fn run_orbit(
         set_param(&mut store, p)?;
     }
     let film_params = params_from(&store);
-    film_params.validate().map_err(|e| e.to_string())?;
+    film_params
+        .validate()
+        .map_err(|e| crate::fmu_params::with_units("film", e.to_string()))?;
     let mut film = AirFilm::new(film_params.clone()).map_err(|e| e.to_string())?;
 
     // The inputs as the FMU layer holds them: all Reals by value reference, plus derivatives.
@@ -481,6 +483,13 @@ mod tests {
         assert!(set_param(&mut store, "dx=1")
             .unwrap_err()
             .contains("no parameter 'dx'"));
+        // The film's refusal gives the value in the unit the user wrote it in, too.
+        let t = table("time,dx,dy,vx,vy,omega\n0,0,0,0,0,0\n").unwrap();
+        let e = run_orbit(&t, &["C=-25 um".into()], 0.0, 1e-5, 1e-5, false).unwrap_err();
+        assert_eq!(
+            e,
+            "invalid air-film parameter C = -2.5e-5 m (-25 um): must be > 0"
+        );
     }
 
     #[test]

@@ -1,7 +1,7 @@
 //! Run-up presets (paper Section 3) and the system file they generate. The generated file is
 //! written into the run folder, so every run can be repeated with `airring run DIR/system.toml`.
 
-use crate::fmu_params::FmuParameter;
+use crate::fmu_params::{with_units, FmuParameter};
 use toml::Value;
 
 /// Everything an engineer varies in a run-up, in the units they think in (named in the fields).
@@ -159,6 +159,13 @@ impl RunupSettings {
                 ));
             }
         }
+        if !(MIN_MACRO_STEP_US..=MAX_MACRO_STEP_US).contains(&self.macro_step_us) {
+            return Err(format!(
+                "--macro-step = {} us must lie between {MIN_MACRO_STEP_US} us and \
+                 {MAX_MACRO_STEP_US} us",
+                fmt_number(self.macro_step_us)
+            ));
+        }
         if !(self.dh_um.is_finite() && self.dh_um >= 0.0) {
             return Err(format!(
                 "--dh = {} um must be a finite number >= 0",
@@ -266,11 +273,11 @@ impl RunupSettings {
         let [c, t] = self.film_params()?;
         for (inst, p) in [("film_C", c), ("film_T", t)] {
             p.validate()
-                .map_err(|e| self.blame_design(format!("{inst}: {e}")))?;
+                .map_err(|e| self.blame_design(with_units(inst, format!("{inst}: {e}"))))?;
         }
         self.rotor_params()?
             .validate()
-            .map_err(|e| self.blame_design(format!("rotor: {e}")))
+            .map_err(|e| self.blame_design(with_units("rotor", format!("rotor: {e}"))))
     }
 
     /// An FMU's refusal of a parameter, with the design file and its entry in front where the
@@ -848,6 +855,14 @@ pub fn fmt_number(x: f64) -> String {
 /// The highest rotor speed a run-up takes [Hz]: ten times the paper's top speed. Far above it the
 /// model has no meaning, and the calm-step planning would analyse a speed every 50 Hz up to it.
 pub const MAX_SPEED_HZ: f64 = 20_000.0;
+
+/// Smallest macro step a run-up takes [us]: 3 million macro steps for the 3 s run-up (the
+/// shipped 50 us take 60 000), far below any step whose coupling error matters; a mistyped
+/// 0.001 (1 ns) would have run for days without a word.
+pub const MIN_MACRO_STEP_US: f64 = 1.0;
+/// Largest macro step [us]: two revolutions at the paper's top speed (2000 Hz). The input
+/// polynomials could not follow the imbalance forcing over such a step.
+pub const MAX_MACRO_STEP_US: f64 = 1000.0;
 
 /// Default interval of the recorded time series [us].
 pub const DEFAULT_OUTPUT_INTERVAL_US: f64 = 50.0;

@@ -424,6 +424,14 @@ mod tests {
             e,
             "--clearance = 1e-6 um must lie between 0.01 um and 10000 um"
         );
+        let e = refusal(&["--macro-step", "0.001"]);
+        assert_eq!(
+            e,
+            "--macro-step = 0.001 us must lie between 1 us and 1000 us"
+        );
+        let e = refusal(&["--macro-step", "2000"]);
+        assert!(e.starts_with("--macro-step = 2000 us must lie"), "{e}");
+        assert!(checked(&["--macro-step", "1"]).is_ok());
         let e = refusal(&["--interpolation-order", "3"]);
         assert_eq!(e, "--interpolation-order = 3 must be 0, 1 or 2");
         let e = refusal(&["--mesh", "3x2"]);
@@ -447,6 +455,18 @@ mod tests {
         let s = checked(&["--design", path.to_str().unwrap()]);
         let _ = std::fs::remove_file(&path);
         let s = s.unwrap();
+        // A value the FMU refuses: the file, its entry, and the value in the FMU's units.
+        std::fs::write(&path, "[bearing]\nmount_c = \"-5 N/mm\"\n").unwrap();
+        let e = refusal(&["--design", path.to_str().unwrap()]);
+        let _ = std::fs::remove_file(&path);
+        assert_eq!(
+            e,
+            format!(
+                "{}: [bearing] mount_c: rotor: invalid parameter c_C = -5000 N/m (-5 N/mm): \
+                 must be >= 0",
+                path.display()
+            )
+        );
         assert!(s
             .fmu_parameters
             .iter()

@@ -12,6 +12,7 @@ pub mod equilibrium;
 pub mod figures;
 pub mod unbalance;
 
+use crate::fmu_params::with_units;
 use crate::runup::RunupSettings;
 use campbell::{system_modes, ModeResult};
 use equilibrium::{journal_loads_n, solve_bearing, BearingEquilibrium, SolvedBearing};
@@ -216,7 +217,9 @@ pub fn analyse_with_equilibria(
 ) -> Result<(StabilityReport, Vec<[SolvedBearing; 2]>), String> {
     let t0 = std::time::Instant::now();
     let (rotor, films) = params_of(s)?;
-    rotor.validate().map_err(|e| format!("rotor: {e}"))?;
+    rotor
+        .validate()
+        .map_err(|e| with_units("rotor", format!("rotor: {e}")))?;
     if !(rotor.c_c_n_m > 0.0 && rotor.c_t_n_m > 0.0) {
         // Without a mount stiffness the rings have no static position to linearize about.
         return Err(format!(
@@ -225,7 +228,8 @@ pub fn analyse_with_equilibria(
         ));
     }
     for (f, side) in films.iter().zip(["C", "T"]) {
-        f.validate().map_err(|e| format!("film_{side}: {e}"))?;
+        f.validate()
+            .map_err(|e| with_units("film", format!("film_{side}: {e}")))?;
     }
     if speeds_hz.is_empty() || speeds_hz.iter().any(|f| !(f.is_finite() && *f > 0.0)) {
         return Err("speeds must be finite and > 0 Hz".into());
