@@ -25,8 +25,8 @@ pub struct RunupArgs {
     /// Simulated time [s] (default: t_ramp, or the profile's last time).
     #[arg(long)]
     pub stop: Option<f64>,
-    /// Macro (communication) step [us] [default: 50; 20 with --extrapolation-order 1 is the
-    /// previous default, for cross-checks]
+    /// Macro (communication) step [us], 1-1000 [default: 50; 20 with --extrapolation-order 1 is
+    /// the previous default, for cross-checks]
     #[arg(long)]
     pub macro_step: Option<f64>,
     /// Macro step [us] before the rotor nears any instability, where the linear stability
