@@ -80,6 +80,14 @@ pub fn run(
     let text = std::fs::read(source).map_err(io(source))?;
     let sys = System::load(source)?;
     let built = build(&sys, log)?;
+    // A new run's copy of the system file keeps its relative FMU paths findable from the run
+    // folder (a resume reads the copy); the run's identity is that of the copy.
+    let in_place = system_path.canonicalize().ok() == used.canonicalize().ok();
+    let text = if resume || in_place {
+        text
+    } else {
+        sys.text_for_copy_in().into_bytes()
+    };
     let (resumed_from, identity) = if resume {
         let (m, states) = resumable_checkpoint(&cfg.out_dir, &built, &text)?;
         let identity = m
@@ -99,7 +107,7 @@ pub fn run(
         // an old checkpoint there belongs to another run, and the system file is copied in.
         let cp = cfg.out_dir.join("checkpoint");
         checkpoint::remove(&cfg.out_dir).map_err(io(&cp))?;
-        if system_path.canonicalize().ok() != used.canonicalize().ok() {
+        if !in_place {
             std::fs::write(&used, &text).map_err(io(&used))?;
         }
     }

@@ -27,7 +27,9 @@
 //! interval = "100 us"
 //! variables = ["rotor.omega", "film_C.Fx"]
 //! ```
-//! Every error names the file, the line and the field.
+//! Every error names the file, the line and the field. A run's copy of a system file whose FMU
+//! paths are relative gets a first key `base_dir`, the original file's folder, which relative
+//! paths are then taken from.
 
 use serde::Deserialize;
 use std::collections::BTreeMap;
@@ -116,6 +118,11 @@ pub struct OutputEntry {
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct SystemFile {
+    /// The folder relative FMU paths are taken from, where it is not the file's own: a run
+    /// writes it into its copy of a system file whose FMU paths are relative
+    /// ([`System::text_for_copy_in`]), so that a resume from the run folder finds them.
+    #[serde(default)]
+    pub base_dir: Option<String>,
     pub fmu: Vec<FmuEntry>,
     #[serde(default)]
     pub connection: Vec<ConnectionEntry>,
@@ -180,14 +187,43 @@ impl System {
         ))
     }
 
-    /// FMU paths are relative to the system file's folder.
+    /// FMU paths are relative to the system file's folder (or its `base_dir`).
     pub fn resolve(&self, p: &str) -> PathBuf {
         let p = Path::new(p);
         if p.is_absolute() {
             p.to_path_buf()
+        } else if let Some(base) = &self.file.base_dir {
+            Path::new(base).join(p)
         } else {
             self.path.parent().unwrap_or(Path::new(".")).join(p)
         }
+    }
+
+    /// The text of this file for a copy in another folder: as it is, unless an FMU path is
+    /// relative and the file names no `base_dir`; then with a first line `base_dir = "..."`
+    /// naming this file's folder (absolute), so that the copy finds the same FMUs.
+    pub fn text_for_copy_in(&self) -> String {
+        let relative = self
+            .file
+            .fmu
+            .iter()
+            .any(|e| !Path::new(e.path.get_ref()).is_absolute());
+        if !relative || self.file.base_dir.is_some() {
+            return self.text.clone();
+        }
+        let folder = self.path.parent().unwrap_or(Path::new("."));
+        let folder = if folder.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            folder
+        };
+        let folder = std::fs::canonicalize(folder).unwrap_or_else(|_| folder.to_path_buf());
+        let quoted = toml::Value::String(folder.to_string_lossy().into_owned());
+        format!(
+            "# written by the run: its FMU paths are relative to the original system file's folder\n\
+             base_dir = {quoted}\n{}",
+            self.text
+        )
     }
 
     /// A time quantity in seconds: a number (s) or a string "10 us", "2.5 ms", "3 s".

@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{coupled, exact_xa, run, run_text, tmp};
+use common::{coupled, exact_xa, fmu_dir, run, run_text, tmp};
 use cosim::system::System;
 use cosim::{RunConfig, RunReport};
 use std::sync::Arc;
@@ -248,6 +248,47 @@ fn checkpoint_resume_gives_the_uninterrupted_series() {
     assert!(
         full == resumed,
         "resumed series differs from the uninterrupted one"
+    );
+}
+
+/// A system file whose FMU paths are relative to its own folder: the run's copy names that
+/// folder (`base_dir`), and the run resumes from its folder to the uninterrupted series.
+#[test]
+fn a_run_of_a_system_file_with_relative_fmu_paths_resumes_from_its_folder() {
+    let src = tmp("relative-src");
+    let dir_full = tmp("relative-full");
+    let dir_cut = tmp("relative-cut");
+    std::fs::copy(fmu_dir().join("oscillator.fmu"), src.join("oscillator.fmu")).unwrap();
+    let text = coupled("gauss-seidel", 0.001, 1, 0.3)
+        .replace("interval = 0.3", "interval = 0.002")
+        .replace(
+            &format!("{}/oscillator.fmu", fmu_dir().display()),
+            "oscillator.fmu",
+        );
+    assert!(text.contains("path = \"oscillator.fmu\""));
+    let sys = src.join("input.toml");
+    std::fs::write(&sys, &text).unwrap();
+    run(&sys, &RunConfig::new(&dir_full), false).unwrap();
+    let o = RunConfig {
+        checkpoint_every_s: Some(0.05),
+        halt_at_s: Some(0.1234),
+        ..RunConfig::new(&dir_cut)
+    };
+    assert!(run(&sys, &o, false).unwrap().interrupted);
+    let copy = std::fs::read_to_string(dir_cut.join("system.toml")).unwrap();
+    assert!(
+        copy.ends_with(&text),
+        "the user's file follows the added lines unchanged"
+    );
+    let o = RunConfig {
+        checkpoint_every_s: Some(0.05),
+        ..RunConfig::new(&dir_cut)
+    };
+    let second = run(&dir_cut.join("system.toml"), &o, true).unwrap();
+    assert!(second.completed);
+    assert_eq!(
+        std::fs::read(dir_full.join("timeseries.csv")).unwrap(),
+        std::fs::read(dir_cut.join("timeseries.csv")).unwrap()
     );
 }
 

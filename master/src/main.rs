@@ -292,13 +292,10 @@ fn finish(report: master::run::RunReport, out: &Path) -> ExitCode {
 fn classify_command(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, String> {
     // Each bearing's clearance: the flag, else the run folder's own system file (never a default).
     let c_m = match clearance_um {
-        Some(c) if !(0.01..=1e4).contains(&c) => {
-            return Err(format!(
-                "--clearance = {} um must lie between 0.01 um and 10000 um",
-                master::runup::fmt_number(c)
-            ))
+        Some(c) => {
+            master::runup::check_clearance_um(c)?;
+            [c / 1e6; 2]
         }
-        Some(c) => [c / 1e6; 2],
         None => match master::run_folder::bores_of_run(dir)? {
             Some([c, t]) => [c.c_m, t.c_m],
             None => {
@@ -526,6 +523,13 @@ fn main() -> ExitCode {
             dh,
         } => {
             check_checkpoint_every(common.checkpoint_every)?;
+            // The clearance scales the analysis of the whole run: checked before it starts.
+            if let Some(c) = clearance {
+                master::runup::check_clearance_um(c)?;
+            }
+            if let Some(dh) = dh {
+                master::runup::check_dh_um(dh)?;
+            }
             let out = common.out.clone().unwrap_or_else(|| {
                 default_out(system.file_stem().and_then(|s| s.to_str()).unwrap_or("run"))
             });

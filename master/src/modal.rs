@@ -15,9 +15,10 @@ pub fn modal(
     out: Option<&Path>,
 ) -> Result<serde_json::Value, String> {
     // The flags, checked by name in their units before the rotor's own checks (which name its
-    // parameters in SI: c_C = -5000).
+    // parameters in SI: c_C = -5000). Without a mount stiffness the rotor and its rings float
+    // free: rigid-body modes at 0 Hz whose nodes lie anywhere (5e12 mm was printed).
     for (name, v, unit, zero_ok) in [
-        ("c", c_n_per_mm, "N/mm", true),
+        ("c", c_n_per_mm, "N/mm", false),
         ("d", d_n_s_per_m, "N s/m", true),
         ("m-r", m_r_g, "g", false),
         ("film-stiffness", film_n_per_mm, "N/mm", false),
@@ -209,7 +210,11 @@ mod tests {
         for (args, why) in [
             (
                 (vec![100.0], -5.0, 50.0, 1000.0, 50.0),
-                "--c = -5 N/mm must be a finite number >= 0",
+                "--c = -5 N/mm must be a finite number > 0",
+            ),
+            (
+                (vec![100.0], 0.0, 50.0, 1000.0, 50.0),
+                "--c = 0 N/mm must be a finite number > 0",
             ),
             (
                 (vec![100.0], 1000.0, f64::NAN, 1000.0, 50.0),

@@ -47,6 +47,99 @@ pub fn check_new_run(dir: &Path, overwrite: bool) -> Result<(), String> {
     ))
 }
 
+/// The file that marks a folder a run is writing into (see [`RunLock`]).
+pub const LOCK_FILE: &str = "run.lock";
+
+/// A run folder held by the process running in it: `run.lock` names the process and its host
+/// while the run goes on and is removed when the run ends (dropped). A second run, resume or
+/// `--overwrite` into the folder is refused meanwhile: two processes writing one folder leave a
+/// summary that belongs to neither. A lock left by a process that is gone (killed) is taken over;
+/// one from another host (a cluster's shared file system) cannot be checked and is respected.
+pub struct RunLock {
+    path: PathBuf,
+}
+
+impl RunLock {
+    /// Creates `dir` if needed and takes its lock.
+    pub fn acquire(dir: &Path) -> Result<RunLock, String> {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        let path = dir.join(LOCK_FILE);
+        let me = format!("{} {}\n", std::process::id(), host_name());
+        for _ in 0..2 {
+            match std::fs::OpenOptions::new()
+                .write(true)
+                .create_new(true)
+                .open(&path)
+            {
+                Ok(mut f) => {
+                    use std::io::Write;
+                    f.write_all(me.as_bytes())
+                        .map_err(|e| format!("{}: {e}", path.display()))?;
+                    return Ok(RunLock { path });
+                }
+                Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                    let held = std::fs::read_to_string(&path).unwrap_or_default();
+                    let mut words = held.split_whitespace();
+                    let pid = words.next().and_then(|p| p.parse::<i32>().ok());
+                    let host = words.next().unwrap_or("").to_string();
+                    let alive = match pid {
+                        Some(pid) if host == host_name() => process_alive(pid),
+                        // Another host's process, or a lock still being written: respected.
+                        Some(_) => true,
+                        None => false,
+                    };
+                    if alive {
+                        return Err(format!(
+                            "{}: a run is in progress here (process {} on {}); wait for it to \
+                             end or stop it first (if that process is gone, remove {})",
+                            dir.display(),
+                            pid.map_or("?".into(), |p| p.to_string()),
+                            if host.is_empty() { "?" } else { &host },
+                            path.display()
+                        ));
+                    }
+                    // Left by a run that was killed: taken over.
+                    let _ = std::fs::remove_file(&path);
+                }
+                Err(e) => return Err(format!("{}: {e}", path.display())),
+            }
+        }
+        Err(format!(
+            "{}: could not take the run lock (another run starting at the same time?)",
+            path.display()
+        ))
+    }
+}
+
+impl Drop for RunLock {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_file(&self.path);
+    }
+}
+
+/// This machine's name ("?" where it cannot be read).
+fn host_name() -> String {
+    let mut buf = [0u8; 256];
+    // SAFETY: the buffer is valid for its length; gethostname writes at most that many bytes.
+    let rc = unsafe { libc::gethostname(buf.as_mut_ptr().cast(), buf.len()) };
+    if rc != 0 {
+        return "?".into();
+    }
+    let end = buf.iter().position(|&b| b == 0).unwrap_or(buf.len());
+    String::from_utf8_lossy(&buf[..end]).into_owned()
+}
+
+/// Does process `pid` exist on this machine? (Signal 0 checks without sending anything; EPERM
+/// means it exists under another user.)
+fn process_alive(pid: i32) -> bool {
+    if pid <= 0 {
+        return false;
+    }
+    // SAFETY: kill with signal 0 sends nothing; it only checks the process exists.
+    let rc = unsafe { libc::kill(pid, 0) };
+    rc == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
+}
+
 /// A system file generated for a run, kept outside the run folder until the run has started
 /// (removed when dropped).
 pub struct StagedSystem {
@@ -223,6 +316,38 @@ fn is_plain_file_name(name: &str) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// One process per run folder: a second lock is refused while the first is held, a lock
+    /// left by a process that is gone is taken over, one from another host is respected.
+    #[test]
+    fn a_run_folder_is_held_by_one_process_at_a_time() {
+        let dir = std::env::temp_dir().join(format!("airring-lock-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let lock = RunLock::acquire(&dir).unwrap();
+        let held = std::fs::read_to_string(dir.join(LOCK_FILE)).unwrap();
+        assert_eq!(held, format!("{} {}\n", std::process::id(), host_name()));
+        let e = RunLock::acquire(&dir).err().unwrap();
+        assert!(
+            e.contains(&format!(
+                "a run is in progress here (process {} on",
+                std::process::id()
+            )),
+            "{e}"
+        );
+        drop(lock);
+        assert!(!dir.join(LOCK_FILE).exists(), "removed when the run ends");
+        // A finished child's process id: nothing runs under it now.
+        let mut child = std::process::Command::new("true").spawn().unwrap();
+        let gone = child.id();
+        child.wait().unwrap();
+        std::fs::write(dir.join(LOCK_FILE), format!("{gone} {}\n", host_name())).unwrap();
+        let lock = RunLock::acquire(&dir).expect("a killed run's lock is taken over");
+        drop(lock);
+        std::fs::write(dir.join(LOCK_FILE), format!("{gone} another-host\n")).unwrap();
+        let e = RunLock::acquire(&dir).err().unwrap();
+        assert!(e.contains("on another-host"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     /// A run-up's error names what went wrong, not the generated file that is gone.
     #[test]

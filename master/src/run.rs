@@ -202,6 +202,8 @@ impl Observer for Rows {
 /// checkpoint in `opts.out_dir` when `resume` is set; writes summary.json (and, for a run-up,
 /// the classification and plots) however the run ended.
 pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunReport, String> {
+    // Held until the summary is written (dropped on return).
+    let _lock = crate::out_folder::RunLock::acquire(&opts.out_dir)?;
     let cfg = RunConfig {
         out_dir: opts.out_dir.clone(),
         checkpoint_every_s: opts.checkpoint_every_s,

@@ -166,23 +166,17 @@ impl RunupSettings {
                 fmt_number(self.macro_step_us)
             ));
         }
-        if !(self.dh_um.is_finite() && self.dh_um >= 0.0) {
+        check_dh_um(self.dh_um)?;
+        check_clearance_um(self.clearance_um)?;
+        // Before the calm plan, whose analysis grows with the stop time (1e6 s: seconds of
+        // silence, 1e9 s: an hour) and which the system file's own limit would refuse after it.
+        let steps = self.stop_time_s * 1e6 / self.macro_step_us;
+        if steps > cosim::setup::MAX_MACRO_STEPS {
             return Err(format!(
-                "--dh = {} um must be a finite number >= 0",
-                fmt_number(self.dh_um)
-            ));
-        }
-        // The bore's own bounds (`bearing::Bore::validate`), in the flags' unit.
-        if !(0.01..=1e4).contains(&self.clearance_um) {
-            return Err(format!(
-                "--clearance = {} um must lie between 0.01 um and 10000 um",
-                fmt_number(self.clearance_um)
-            ));
-        }
-        if self.dh_um > 1e4 {
-            return Err(format!(
-                "--dh = {} um must lie between 0 um and 10000 um",
-                fmt_number(self.dh_um)
+                "--stop = {} s takes {steps:.1e} macro steps of {} us (at most {:e})",
+                fmt_number(self.stop_time_s),
+                fmt_number(self.macro_step_us),
+                cosim::setup::MAX_MACRO_STEPS
             ));
         }
         let top_speed_hz = self.speed_profile.iter().map(|p| p.1).fold(0.0, f64::max);
@@ -850,6 +844,40 @@ pub fn fmt_number(x: f64) -> String {
     } else {
         format!("{x:e}")
     }
+}
+
+/// `--clearance` within the bore's own bounds (`bearing::Bore::validate`), in the flag's unit.
+pub fn check_clearance_um(c_um: f64) -> Result<(), String> {
+    if !(c_um.is_finite() && c_um > 0.0) {
+        return Err(format!(
+            "--clearance = {} um must be a finite number > 0",
+            fmt_number(c_um)
+        ));
+    }
+    if !(0.01..=1e4).contains(&c_um) {
+        return Err(format!(
+            "--clearance = {} um must lie between 0.01 um and 10000 um",
+            fmt_number(c_um)
+        ));
+    }
+    Ok(())
+}
+
+/// `--dh` within the bore's own bounds, in the flag's unit.
+pub fn check_dh_um(dh_um: f64) -> Result<(), String> {
+    if !(dh_um.is_finite() && dh_um >= 0.0) {
+        return Err(format!(
+            "--dh = {} um must be a finite number >= 0",
+            fmt_number(dh_um)
+        ));
+    }
+    if dh_um > 1e4 {
+        return Err(format!(
+            "--dh = {} um must lie between 0 um and 10000 um",
+            fmt_number(dh_um)
+        ));
+    }
+    Ok(())
 }
 
 /// The highest rotor speed a run-up takes [Hz]: ten times the paper's top speed. Far above it the

@@ -424,6 +424,11 @@ mod tests {
             e,
             "--clearance = 1e-6 um must lie between 0.01 um and 10000 um"
         );
+        let e = refusal(&["--stop", "1e9"]);
+        assert_eq!(
+            e,
+            "--stop = 1e9 s takes 2.0e13 macro steps of 50 us (at most 1e9)"
+        );
         let e = refusal(&["--macro-step", "0.001"]);
         assert_eq!(
             e,
