@@ -503,3 +503,37 @@ pub fn check_report(dir: &Path, n_figures: usize, must_show: &[&str]) -> Vec<Str
     }
     links
 }
+
+/// `airring run --clearance` scales the whole run's analysis: a value no bore has is refused
+/// before anything runs (0 used to panic after the whole simulation).
+#[test]
+fn a_run_refuses_a_clearance_no_bore_has_before_it_starts() {
+    let dir = tmp("run-clearance");
+    for (c, why) in [
+        ("0", "--clearance = 0 um must be a finite number > 0"),
+        ("-5", "--clearance = -5 um must be a finite number > 0"),
+        ("NaN", "--clearance = NaN um must be a finite number > 0"),
+        (
+            "1e9",
+            "--clearance = 1e9 um must lie between 0.01 um and 10000 um",
+        ),
+    ] {
+        let out = dir.join(format!("c{c}"));
+        let (ok, err) = airring(
+            &[
+                "run",
+                "studies/does-not-matter.toml",
+                "--out",
+                out.to_str().unwrap(),
+                &format!("--clearance={c}"),
+            ],
+            &[],
+        );
+        assert!(
+            !ok && err.contains(why) && !err.contains("panicked"),
+            "{c}: {err}"
+        );
+        assert!(!out.exists(), "{c}: nothing written");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
