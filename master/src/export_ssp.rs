@@ -7,13 +7,28 @@ use std::path::PathBuf;
 pub struct ExportSspArgs {
     /// The system file (as for `airring run`).
     pub system: PathBuf,
-    /// The SSP archive to write.
+    /// The SSP archive to write (a new file, unless --overwrite).
     #[arg(long)]
     pub out: PathBuf,
+    /// Replace the file --out names, if it exists.
+    #[arg(long)]
+    pub overwrite: bool,
 }
 
 /// The command.
 pub fn run_cli(a: &ExportSspArgs) -> Result<(), String> {
+    if a.out.is_dir() {
+        return Err(format!(
+            "--out {}: a folder; name the archive file",
+            a.out.display()
+        ));
+    }
+    if a.out.exists() && !a.overwrite {
+        return Err(format!(
+            "--out {}: exists; choose another file or pass --overwrite to replace it",
+            a.out.display()
+        ));
+    }
     let r = cosim::ssp::export(&a.system, &a.out)?;
     if let Ok(sys) = System::load(&a.system) {
         if sys.file.algorithm.step_control.is_some() {
@@ -36,4 +51,39 @@ pub fn run_cli(a: &ExportSspArgs) -> Result<(), String> {
         r.resources.join(", ")
     );
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An existing file is not replaced without --overwrite (a run's summary.json was).
+    #[test]
+    fn an_existing_file_is_kept_unless_overwrite() {
+        let dir = std::env::temp_dir().join(format!("airring-ssp-out-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let out = dir.join("summary.json");
+        std::fs::write(&out, "{}").unwrap();
+        let args = |overwrite| ExportSspArgs {
+            system: dir.join("missing.toml"),
+            out: out.clone(),
+            overwrite,
+        };
+        let e = run_cli(&args(false)).unwrap_err();
+        assert!(
+            e.contains("exists; choose another file or pass --overwrite"),
+            "{e}"
+        );
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "{}");
+        // With --overwrite the export itself runs (and fails here on the missing system file).
+        let e = run_cli(&args(true)).unwrap_err();
+        assert!(e.contains("missing.toml"), "{e}");
+        let e = run_cli(&ExportSspArgs {
+            out: dir.clone(),
+            ..args(true)
+        })
+        .unwrap_err();
+        assert!(e.contains("a folder; name the archive file"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -343,6 +343,7 @@ fn linear_sweep_command(
         Some(m) => master::runup::parse_mesh(m, "--linear-mesh")?,
     };
     let out = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name)));
+    master::out_folder::check_sweep_out(&out)?;
     let (preds, maps) = master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet, None)?;
     eprintln!(
         "linear prediction: {} points -> {}, {}",
@@ -387,6 +388,7 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
     }
     let jobs = jobs.unwrap_or_else(sweep::default_jobs);
     let out = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name)));
+    master::out_folder::check_sweep_out(&out)?;
     if let Some((speeds, mesh)) = predict {
         let speeds = master::stability::parse_speeds(speeds)?;
         let mesh = match mesh {
@@ -412,8 +414,14 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
         checkpoint_every_s,
     };
     let r = sweep::sweep(&study, &text, &opts)?;
+    let interrupted = if r.interrupted.is_empty() {
+        String::new()
+    } else {
+        format!(", {} interrupted", r.interrupted.len())
+    };
     eprintln!(
-        "sweep: {} runs ({} skipped as completed, {} run, {} failed) in {:.0} s wall -> {}",
+        "sweep: {} runs ({} skipped as completed, {} run, {} failed{interrupted}) in {:.0} s wall \
+         -> {}",
         r.total,
         r.skipped,
         r.ran,
@@ -626,6 +634,7 @@ fn main() -> ExitCode {
         }
         Command::SweepMerge { dirs, out } => {
             let out = out.unwrap_or_else(|| dirs[0].clone());
+            master::out_folder::check_sweep_out(&out)?;
             let (table, maps, n) = master::sweep::merge(&dirs, &out)?;
             eprintln!("{n} runs -> {}, {}", table.display(), maps[0].display());
             Ok(ExitCode::SUCCESS)
@@ -647,6 +656,7 @@ fn main() -> ExitCode {
             fmu_dir: dir,
         } => {
             let study = master::sweep::Study::load(&study)?;
+            master::out_folder::check_sweep_out(&out)?;
             let opts = master::orbits::study::SweepOrbitsOptions {
                 out,
                 settle_s: settle,

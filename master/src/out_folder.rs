@@ -27,10 +27,42 @@ pub fn holds_run(dir: &Path) -> bool {
     RUN_FILES.iter().any(|f| dir.join(f).exists())
 }
 
-/// Checks that a new run may write into `dir`: it is new, empty of runs, or `overwrite` is set.
+/// Files whose presence marks a folder as a sweep's (its study and table; the runs are below).
+const SWEEP_FILES: &[&str] = &["study.toml", "study.csv"];
+
+/// True if `dir` holds a sweep's outputs.
+pub fn holds_sweep(dir: &Path) -> bool {
+    SWEEP_FILES.iter().any(|f| dir.join(f).exists())
+}
+
+/// Checks that a sweep (or a merge of sweeps) may write its table, maps and report into `dir`:
+/// not a run's folder, whose report.html and maps it would replace.
+pub fn check_sweep_out(dir: &Path) -> Result<(), String> {
+    if dir.exists() && !dir.is_dir() {
+        return Err(format!("{}: exists and is not a folder", dir.display()));
+    }
+    if holds_run(dir) {
+        return Err(format!(
+            "{} holds a run (its system.toml, summary.json, ...): a sweep writes its table and \
+             report into a folder of its own; choose another --out",
+            dir.display()
+        ));
+    }
+    Ok(())
+}
+
+/// Checks that a new run may write into `dir`: it is new, empty of runs, or `overwrite` is set;
+/// never a sweep's folder (its report would be replaced, its runs are in `runs/`).
 pub fn check_new_run(dir: &Path, overwrite: bool) -> Result<(), String> {
     if dir.exists() && !dir.is_dir() {
         return Err(format!("{}: exists and is not a folder", dir.display()));
+    }
+    if holds_sweep(dir) {
+        return Err(format!(
+            "{} holds a sweep (study.toml, study.csv): a run writes into a folder of its own; \
+             choose another --out",
+            dir.display()
+        ));
     }
     if overwrite || !holds_run(dir) {
         return Ok(());
@@ -316,6 +348,30 @@ fn is_plain_file_name(name: &str) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A run does not write into a sweep's folder, nor a sweep into a run's (each replaced the
+    /// other's report.html).
+    #[test]
+    fn runs_and_sweeps_keep_to_their_own_folders() {
+        let dir = std::env::temp_dir().join(format!("airring-kinds-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        assert!(check_new_run(&dir, false).is_ok() && check_sweep_out(&dir).is_ok());
+        std::fs::write(dir.join("study.csv"), "").unwrap();
+        for overwrite in [false, true] {
+            let e = check_new_run(&dir, overwrite).unwrap_err();
+            assert!(e.contains("holds a sweep (study.toml, study.csv)"), "{e}");
+        }
+        assert!(
+            check_sweep_out(&dir).is_ok(),
+            "a sweep runs again in its folder"
+        );
+        std::fs::remove_file(dir.join("study.csv")).unwrap();
+        std::fs::write(dir.join("summary.json"), "{}").unwrap();
+        let e = check_sweep_out(&dir).unwrap_err();
+        assert!(e.contains("holds a run"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     /// One process per run folder: a second lock is refused while the first is held, a lock
     /// left by a process that is gone is taken over, one from another host is respected.

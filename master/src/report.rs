@@ -260,11 +260,30 @@ pub fn write_run_report(dir: &Path, s: &RunSummary) -> Result<PathBuf, String> {
 }
 
 /// `path` relative to `base` when it lies below it, else as it is.
+/// `path` as a link from a page in `base`: below it as it is, elsewhere (a merged sweep's runs
+/// in the shards' folders) through "..", found from both folders' real locations.
 fn relative(path: &Path, base: &Path) -> String {
-    path.strip_prefix(base)
-        .unwrap_or(path)
-        .to_string_lossy()
-        .into_owned()
+    if let Ok(below) = path.strip_prefix(base) {
+        return below.to_string_lossy().into_owned();
+    }
+    // The file itself may not exist (a run that wrote no page): its folder does.
+    let real = |p: &Path| {
+        p.canonicalize().ok().or_else(|| {
+            let dir = p.parent()?.canonicalize().ok()?;
+            Some(dir.join(p.file_name()?))
+        })
+    };
+    let (Some(p), Some(b)) = (real(path), base.canonicalize().ok()) else {
+        return path.to_string_lossy().into_owned();
+    };
+    let (pc, bc): (Vec<_>, Vec<_>) = (p.components().collect(), b.components().collect());
+    let common = pc.iter().zip(&bc).take_while(|(x, y)| x == y).count();
+    let mut rel = PathBuf::new();
+    for _ in common..bc.len() {
+        rel.push("..");
+    }
+    rel.extend(&pc[common..]);
+    rel.to_string_lossy().into_owned()
 }
 
 /// Writes `out/report.html` for a sweep: its maps inline, its table, a link to each run's page.
@@ -346,6 +365,20 @@ mod tests {
     fn text_and_links_are_escaped() {
         assert_eq!(escape("a<b & \"c\"'"), "a&lt;b &amp; &quot;c&quot;&#39;");
         assert_eq!(href("runs/C15 x/report.html"), "runs/C15%20x/report.html");
+        // A merged sweep links the runs in its shards' folders through "..".
+        let root = std::env::temp_dir().join(format!("airring-rel-{}", std::process::id()));
+        let run = root.join("sh1/runs/c500");
+        std::fs::create_dir_all(&run).unwrap();
+        std::fs::create_dir_all(root.join("shm")).unwrap();
+        assert_eq!(
+            relative(&run.join("report.html"), &root.join("shm")),
+            "../sh1/runs/c500/report.html"
+        );
+        assert_eq!(
+            relative(&root.join("shm/study.csv"), &root.join("shm")),
+            "study.csv"
+        );
+        let _ = std::fs::remove_dir_all(&root);
         assert_eq!(href("a&b\"<"), "a%26b%22%3C");
     }
 }

@@ -757,10 +757,23 @@ pub fn parse_film_tolerance(text: &str) -> Result<[f64; 2], String> {
 pub fn parse_mesh(text: &str, flag: &str) -> Result<(u32, u32), String> {
     let bad = || format!("{flag} '{text}': expected NxM, e.g. 20x6");
     let (p, z) = text.split_once('x').ok_or_else(bad)?;
-    Ok((
+    let (p, z): (u32, u32) = (
         p.trim().parse().map_err(|_| bad())?,
         z.trim().parse().map_err(|_| bad())?,
-    ))
+    );
+    // The air-film FMU's own bounds (n_elem_phi 4-2000, n_elem_z 2-500): checked here so that
+    // no flag reaches a run or a prediction that every film would refuse.
+    if p < 4 || z < 2 {
+        return Err(format!(
+            "{flag} '{text}': mesh too coarse (at least 4x2 elements per lobe)"
+        ));
+    }
+    if p > 2000 || z > 500 {
+        return Err(format!(
+            "{flag} '{text}': mesh too fine (at most 2000x500 elements per lobe)"
+        ));
+    }
+    Ok((p, z))
 }
 
 /// Variables every run-up records (the analysis and the plots read them by these names).

@@ -442,6 +442,20 @@ mod tests {
         let e = refusal(&["--mesh", "3x2"]);
         assert!(e.contains("at least 4x2 elements per lobe"), "{e}");
         assert!(checked(&["--mesh", "4x2"]).is_ok());
+        for (mesh, why) in [
+            ("0x0", "too coarse"),
+            ("2x200", "too coarse"),
+            ("4x600", "too fine"),
+        ] {
+            let e = refusal(&["--mesh", mesh]);
+            assert!(
+                e.starts_with(&format!("--mesh '{mesh}': mesh {why}")),
+                "{e}"
+            );
+        }
+        // The linear prediction's mesh flag by the same rule (0x0 failed every point, exit 0).
+        let e = crate::runup::parse_mesh("0x0", "--linear-mesh").unwrap_err();
+        assert!(e.starts_with("--linear-mesh '0x0': mesh too coarse"), "{e}");
     }
 
     /// The design file of docs/design.md, as printed there, runs as a run-up with the default

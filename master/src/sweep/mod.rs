@@ -86,9 +86,22 @@ pub struct SweepReport {
     pub skipped: usize,
     pub ran: usize,
     pub failed: Vec<String>,
+    /// Runs stopped by an interrupt of the sweep (they resume when the sweep runs again).
+    pub interrupted: Vec<String>,
     pub wall_time_s: f64,
     pub table: PathBuf,
     pub maps: Vec<PathBuf>,
+}
+
+impl SweepReport {
+    /// Counts a finished run by its status: an interrupted one is not a failed one.
+    fn tally(&mut self, name: &str, status: RunStatus) {
+        match status {
+            RunStatus::Completed => {}
+            RunStatus::Interrupted => self.interrupted.push(name.to_string()),
+            _ => self.failed.push(name.to_string()),
+        }
+    }
 }
 
 pub(super) fn read_json(p: &Path) -> Option<serde_json::Value> {
@@ -358,9 +371,7 @@ pub fn sweep(study: &Study, study_text: &str, opts: &SweepOptions) -> Result<Swe
                     ensure_summary(&dir, status.code(), r.stale_summary.as_deref());
                     let s = RunSummary::read(&dir).unwrap_or_default();
                     let st = s.status.as_str();
-                    if s.status != RunStatus::Completed {
-                        report.failed.push(r.spec.name.clone());
-                    }
+                    report.tally(&r.spec.name, s.status);
                     report.ran += 1;
                     finished += 1;
                     changed = true;
@@ -478,6 +489,18 @@ mod tests {
             Some(0.125)
         );
         assert_eq!(progress_fraction("no progress here"), None);
+    }
+
+    #[test]
+    fn runs_stopped_by_an_interrupt_are_not_counted_as_failed() {
+        let mut r = SweepReport::default();
+        r.tally("a", RunStatus::Completed);
+        r.tally("b", RunStatus::Interrupted);
+        r.tally("c", RunStatus::Failed);
+        assert_eq!(
+            (r.interrupted, r.failed),
+            (vec!["b".to_string()], vec!["c".to_string()])
+        );
     }
 
     #[test]
