@@ -61,8 +61,13 @@ enum Command {
         /// Run only every n-th grid point: k/n runs the points with index i where i mod n = k - 1.
         #[arg(long)]
         shard: Option<String>,
+        /// No progress lines (each finished run and the closing summary are still printed).
         #[arg(long)]
         quiet: bool,
+        /// Run again the completed runs in the output folder that were made with other settings
+        /// (an edited study file); without it such a folder is refused, naming them.
+        #[arg(long)]
+        overwrite: bool,
         /// Print the run-ups (name, index, flags, `airring` arguments) as JSON lines and exit.
         #[arg(long)]
         list: bool,
@@ -361,6 +366,7 @@ struct SweepFlags<'a> {
     jobs: Option<usize>,
     shard: Option<&'a str>,
     quiet: bool,
+    overwrite: bool,
     list: bool,
     checkpoint_every_s: Option<f64>,
     /// --predict-first: (speed grid, film mesh) of the linear prediction.
@@ -374,6 +380,7 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
         jobs,
         shard,
         quiet,
+        overwrite,
         list,
         checkpoint_every_s,
         predict,
@@ -410,6 +417,7 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
         shard: shard.map(sweep::parse_shard).transpose()?,
         exe: std::env::current_exe().map_err(|e| e.to_string())?,
         quiet,
+        overwrite,
         stop: stop_flag(),
         checkpoint_every_s,
     };
@@ -430,7 +438,7 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
         r.table.display()
     );
     Ok(
-        if r.failed.is_empty() && !opts.stop.load(Ordering::Relaxed) {
+        if r.failed.is_empty() && r.interrupted.is_empty() && !opts.stop.load(Ordering::Relaxed) {
             ExitCode::SUCCESS
         } else {
             ExitCode::FAILURE
@@ -599,6 +607,7 @@ fn main() -> ExitCode {
             jobs,
             shard,
             quiet,
+            overwrite,
             list,
             predict_first,
             checkpoint_every,
@@ -625,6 +634,7 @@ fn main() -> ExitCode {
                     jobs,
                     shard: shard.as_deref(),
                     quiet,
+                    overwrite,
                     list,
                     checkpoint_every_s: checkpoint_every,
                     predict,

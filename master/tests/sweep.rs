@@ -182,11 +182,24 @@ fn smoke_study_runs_resumes_and_shards_merge() {
     assert!(ok, "{err}");
     assert!(err.contains("3 already completed, 1 to run"), "{err}");
 
-    // A changed flag is a different run-up: completed runs with other flags run again.
+    // A changed flag is a different run-up: completed runs with other flags are not replaced
+    // without --overwrite, and run again with it.
     let changed = base.join("changed.toml");
     let text = std::fs::read_to_string(root().join("studies/smoke.toml")).unwrap();
     std::fs::write(&changed, text.replace("stop = 0.01", "stop = 0.012")).unwrap();
     let (ok, err) = airring(&["sweep", changed.to_str().unwrap(), "--out", full_s]);
+    assert!(
+        !ok && err.contains("4 completed run(s) there were made with other flags")
+            && err.contains("--overwrite"),
+        "{err}"
+    );
+    let (ok, err) = airring(&[
+        "sweep",
+        changed.to_str().unwrap(),
+        "--out",
+        full_s,
+        "--overwrite",
+    ]);
     assert!(ok, "{err}");
     assert!(
         err.contains("4 runs, 0 already completed, 4 to run"),

@@ -51,6 +51,8 @@ pub struct SweepOptions {
     /// The `airring` executable the run-ups are started with.
     pub exe: PathBuf,
     pub quiet: bool,
+    /// Run again completed runs whose settings differ from the study's (else refused).
+    pub overwrite: bool,
     /// Pass --serial-films to every run-up (one core each; set when jobs exceed half the cores).
     pub serial_films: bool,
     /// Set by Ctrl-C or SIGTERM: no new run-ups are started; running ones stop themselves
@@ -133,6 +135,38 @@ fn same_run(dir: &Path, args: &BTreeMap<String, String>) -> bool {
 fn is_done(dir: &Path, args: &BTreeMap<String, String>) -> bool {
     let done = RunSummary::read(dir).is_some_and(|s| s.status == RunStatus::Completed);
     done && same_run(dir, args)
+}
+
+/// Err naming the completed runs in `out` that `runs` would replace: same name, other flags (an
+/// edited study file, or another study into the same folder). They took their time and are not
+/// thrown away without --overwrite. (Runs made with other run-up defaults, by an older airring,
+/// run again without asking: their numerics are not this version's.)
+fn refuse_replacing_other_runs(out: &Path, runs: &[&RunSpec]) -> Result<(), String> {
+    let other: Vec<&str> = runs
+        .iter()
+        .filter(|r| {
+            let dir = out.join("runs").join(&r.name);
+            let done = RunSummary::read(&dir).is_some_and(|s| s.status == RunStatus::Completed);
+            let flags = read_json(&dir.join("sweep_run.json")).map(|m| m["args"].clone());
+            done && flags.is_some_and(|f| f != serde_json::to_value(&r.args).unwrap_or_default())
+        })
+        .map(|r| r.name.as_str())
+        .collect();
+    if other.is_empty() {
+        return Ok(());
+    }
+    let shown = other.iter().take(3).copied().collect::<Vec<_>>().join(", ");
+    let more = if other.len() > 3 {
+        format!(" and {} more", other.len() - 3)
+    } else {
+        String::new()
+    };
+    Err(format!(
+        "{}: {} completed run(s) there were made with other flags than this study's and would be \
+         replaced: {shown}{more}; choose another --out, or pass --overwrite to run them again",
+        out.display(),
+        other.len()
+    ))
 }
 
 /// True if `dir` holds an interrupted run (Ctrl-C, SIGTERM of a batch system's time limit) or a
@@ -302,14 +336,17 @@ fn stem_for(shard: Option<(usize, usize)>) -> (String, String) {
 
 /// Runs (or resumes) a study into `opts.out`, then writes its table and maps.
 pub fn sweep(study: &Study, study_text: &str, opts: &SweepOptions) -> Result<SweepReport, String> {
-    std::fs::create_dir_all(opts.out.join("runs"))
-        .map_err(|e| format!("{}: {e}", opts.out.display()))?;
-    let _ = std::fs::write(opts.out.join("study.toml"), study_text);
     let mine: Vec<&RunSpec> = study
         .runs
         .iter()
         .filter(|r| opts.shard.is_none_or(|(k, n)| r.index % n == k - 1))
         .collect();
+    if !opts.overwrite {
+        refuse_replacing_other_runs(&opts.out, &mine)?;
+    }
+    std::fs::create_dir_all(opts.out.join("runs"))
+        .map_err(|e| format!("{}: {e}", opts.out.display()))?;
+    let _ = std::fs::write(opts.out.join("study.toml"), study_text);
     let mut report = SweepReport {
         total: mine.len(),
         ..Default::default()
