@@ -30,6 +30,8 @@ enum Command {
     },
     /// Any system described by a TOML system file.
     Run {
+        /// The system file (TOML; the format is in docs/fmu-guide.md and the cosim crate's
+        /// `system` module; a run folder's system.toml is one).
         system: PathBuf,
         #[command(flatten)]
         common: Common,
@@ -42,7 +44,9 @@ enum Command {
     },
     /// Continue an interrupted run from its last checkpoint.
     Resume {
+        /// The run folder (an interrupted run's, with its checkpoint).
         dir: PathBuf,
+        /// Save a checkpoint every this many simulated seconds from here on [s].
         #[arg(long)]
         checkpoint_every: Option<f64>,
         /// Also write timeseries.parquet at the end (automatic if the run wrote one before).
@@ -72,8 +76,8 @@ enum Command {
         #[arg(long)]
         list: bool,
         /// Predict the map with the linear stability analysis first (study_linear.csv,
-        /// bifurcation_map_linear.*, in seconds), then run the run-ups, those predicted to take
-        /// longest (unstable, earliest onset) first.
+        /// bifurcation_map_linear.*; seconds, against the run-ups' minutes), then run the
+        /// run-ups, those predicted to take longest (unstable, earliest onset) first.
         #[arg(long)]
         predict_first: bool,
         /// Every run-up writes a checkpoint every this many seconds of simulated time, so a killed
@@ -94,6 +98,7 @@ enum Command {
     },
     /// Merge the run folders of several sweep outputs (shards) into one table and map.
     SweepMerge {
+        /// Sweep output folders (each with its runs/).
         #[arg(required = true)]
         dirs: Vec<PathBuf>,
         /// Output folder (default: the first DIR).
@@ -103,6 +108,7 @@ enum Command {
     /// How a sweep's classes depend on the classifier's bounds: every completed run classified
     /// again with each bound moved down and up (sensitivity.csv, and a summary).
     SweepSensitivity {
+        /// A sweep's output folder.
         dir: PathBuf,
         /// Relative move of each bound.
         #[arg(long, default_value_t = 0.2)]
@@ -151,6 +157,7 @@ enum Command {
         /// Ring mass [g].
         #[arg(long, default_value_t = 50.0)]
         m_r: f64,
+        /// Output folder for modal.json and the Campbell diagram (campbell.svg/.png).
         #[arg(long)]
         out: Option<PathBuf>,
     },
@@ -159,6 +166,7 @@ enum Command {
     /// Classify a finished run folder again from its timeseries.csv (prints JSON: class, onset,
     /// first bearing, maximum eccentricities, criteria).
     Classify {
+        /// A run-up's folder (its timeseries.csv and system.toml).
         dir: PathBuf,
         /// Nominal clearance C [um] of both bearings (default: each film's, from the run folder's
         /// system.toml). The eccentricities are the films' own where the time series records
@@ -584,6 +592,18 @@ fn main() -> ExitCode {
                 return Err(format!(
                     "{}: the run completed (summary.json): nothing to resume",
                     dir.display()
+                ));
+            }
+            if !dir.join("checkpoint").is_dir() {
+                let why = old
+                    .error
+                    .as_deref()
+                    .map_or(String::new(), |e| format!(": {e}"));
+                return Err(format!(
+                    "{}: no checkpoint to resume from (the run {}{why}); run it again with \
+                     --overwrite",
+                    dir.display(),
+                    old.status.as_str()
                 ));
             }
             let opts = RunOptions {

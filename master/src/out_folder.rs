@@ -67,15 +67,23 @@ pub fn check_new_run(dir: &Path, overwrite: bool) -> Result<(), String> {
     if overwrite || !holds_run(dir) {
         return Ok(());
     }
-    let status = RunSummary::read(dir).map_or_else(
+    let summary = RunSummary::read(dir);
+    let status = summary.as_ref().map_or_else(
         || "no summary".to_string(),
         |s| format!("status {}", s.status.as_str()),
     );
+    // Resuming is offered only where there is something to resume: a checkpoint of a run that
+    // did not complete.
+    let completed = summary.is_some_and(|s| s.status == crate::summary::RunStatus::Completed);
+    let resume = if !completed && dir.join("checkpoint").exists() {
+        format!(", resume it with `airring resume {}`", dir.display())
+    } else {
+        String::new()
+    };
     Err(format!(
-        "{} holds a run already ({status}); choose another --out, resume it with `airring resume \
-         {}`, or pass --overwrite to replace it",
+        "{} holds a run already ({status}); choose another --out{resume}, or pass --overwrite to \
+         replace it",
         dir.display(),
-        dir.display()
     ))
 }
 
@@ -370,6 +378,25 @@ mod tests {
         std::fs::write(dir.join("summary.json"), "{}").unwrap();
         let e = check_sweep_out(&dir).unwrap_err();
         assert!(e.contains("holds a run"), "{e}");
+        // Resuming is offered for a run that did not complete and left a checkpoint, only.
+        let mut s = RunSummary {
+            status: crate::summary::RunStatus::Completed,
+            ..Default::default()
+        };
+        s.write(&dir).unwrap();
+        std::fs::create_dir_all(dir.join("checkpoint")).unwrap();
+        let e = check_new_run(&dir, false).unwrap_err();
+        assert!(
+            e.contains("(status completed)") && !e.contains("resume"),
+            "{e}"
+        );
+        s.status = crate::summary::RunStatus::Interrupted;
+        s.write(&dir).unwrap();
+        let e = check_new_run(&dir, false).unwrap_err();
+        assert!(e.contains("resume it with `airring resume"), "{e}");
+        std::fs::remove_dir_all(dir.join("checkpoint")).unwrap();
+        let e = check_new_run(&dir, false).unwrap_err();
+        assert!(!e.contains("resume"), "{e}");
         let _ = std::fs::remove_dir_all(&dir);
     }
 

@@ -78,7 +78,8 @@ pub struct RunupArgs {
     /// steps) or "film" (with the film force, extrapolated over each macro step) [default: rotor]
     #[arg(long)]
     pub contact: Option<String>,
-    /// Folder with rotor.fmu and airfilm.fmu (default: target/fmu).
+    /// Folder with rotor.fmu and airfilm.fmu (default: next to the executable, then
+    /// target/fmu).
     #[arg(long)]
     pub fmu_dir: Option<PathBuf>,
     /// Folder of linear analyses to reuse and add to when planning the calm macro steps: speeds

@@ -376,7 +376,8 @@ fn assert_whole(dir: &Path) {
     }
 }
 
-/// A full disk (a 400 kB tmpfs, in a user and mount namespace of its own): the run fails with
+/// A full disk (a 440 kB tmpfs, in a user and mount namespace of its own: one checkpoint of
+/// ~385 kB fits beside the run's files and run.lock, a second one does not): the run fails with
 /// the system's message, every file it leaves is whole, and once there is space again `airring
 /// resume` continues from the last checkpoint to the uninterrupted run's series, bit for bit.
 /// Skipped, with a message, where the machine allows no user namespaces.
@@ -394,7 +395,7 @@ fn a_full_disk_fails_the_run_cleanly_and_resume_continues_once_there_is_space() 
     let script = format!(
         "set -u\n\
          M=$(mktemp -d)\n\
-         mount -t tmpfs -o size=400k tmpfs \"$M\" || exit 77\n\
+         mount -t tmpfs -o size=440k tmpfs \"$M\" || exit 77\n\
          \"{bin}\" {flags} --out \"$M/run\" 2> \"{b}/full.err\"; echo $? > \"{b}/full.rc\"\n\
          cp -r \"$M/run\" \"{b}/full\"\n\
          mount -o remount,size=50m \"$M\"\n\
@@ -535,5 +536,28 @@ fn a_run_refuses_a_clearance_no_bore_has_before_it_starts() {
         );
         assert!(!out.exists(), "{c}: nothing written");
     }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A run that failed without a checkpoint is not "resumed" only to fail on the missing
+/// checkpoint: the refusal says why and what to do.
+#[test]
+fn resume_without_a_checkpoint_says_why_before_it_starts() {
+    let dir = tmp("resume-no-checkpoint");
+    std::fs::write(dir.join("system.toml"), "").unwrap();
+    let s = master::summary::RunSummary {
+        error: Some("film_C: journal beyond the contact limit".into()),
+        ..Default::default()
+    };
+    s.write(&dir).unwrap();
+    let (ok, err) = airring(&["resume", dir.to_str().unwrap()], &[]);
+    assert!(!ok, "{err}");
+    assert!(
+        err.contains(
+            "no checkpoint to resume from (the run failed: film_C: journal beyond the contact \
+             limit); run it again with --overwrite"
+        ) && !err.contains("resuming"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
