@@ -554,6 +554,8 @@ fn main() -> ExitCode {
             if let Some(dh) = dh {
                 master::runup::check_dh_um(dh)?;
             }
+            let sys = cosim::System::load(&system).map_err(|e| e.to_string())?;
+            cosim::setup::check_output_interval_whole(&sys).map_err(|e| e.to_string())?;
             let out = common.out.clone().unwrap_or_else(|| {
                 default_out(system.file_stem().and_then(|s| s.to_str()).unwrap_or("run"))
             });

@@ -561,3 +561,32 @@ fn resume_without_a_checkpoint_says_why_before_it_starts() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `airring run` writes rows at macro steps only, as `runup` does: an output interval that is
+/// not a whole number of macro steps is refused with the file, line and field (70 us at a 50 us
+/// step gave rows 50 and 100 us apart).
+#[test]
+fn a_run_refuses_an_output_interval_between_macro_steps() {
+    let dir = tmp("run-interval");
+    let text = std::fs::read_to_string(root().join("master/tests/data/recorded/path1/system.toml"))
+        .unwrap()
+        .replace("macro_step = \"20 us\"", "macro_step = \"50 us\"")
+        .replace("interval = \"50 us\"", "interval = \"70 us\"");
+    let sys = dir.join("s.toml");
+    std::fs::write(&sys, text).unwrap();
+    let out = dir.join("out");
+    let (ok, err) = airring(
+        &["run", sys.to_str().unwrap(), "--out", out.to_str().unwrap()],
+        &[],
+    );
+    assert!(!ok, "{err}");
+    assert!(
+        err.contains(&format!(
+            "{}:131: output.interval: 0.00007 s is not a whole number of macro steps (0.00005 s)",
+            sys.display()
+        )),
+        "{err}"
+    );
+    assert!(!out.exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
