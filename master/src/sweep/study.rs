@@ -150,10 +150,30 @@ impl Study {
         let name = match doc.get("name") {
             Some(toml::Value::String(s)) => s.clone(),
             Some(_) => return Err(err("'name' must be a string".into())),
-            None => path
-                .file_stem()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_else(|| "study".into()),
+            // The file's name, made a folder-free one ("we ird.toml" -> "we_ird"): the user
+            // gave no name to be refused.
+            None => {
+                let stem = path
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default();
+                let plain: String = stem
+                    .chars()
+                    .map(|c| {
+                        if c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.') {
+                            c
+                        } else {
+                            '_'
+                        }
+                    })
+                    .collect();
+                let plain = plain.trim_start_matches('.');
+                if plain.is_empty() {
+                    "study".into()
+                } else {
+                    plain.to_string()
+                }
+            }
         };
         check_study_name(&name).map_err(err)?;
         for k in doc.keys() {
@@ -340,6 +360,33 @@ impl Study {
                 }
             }
         }
+        // Files and folders a study names are relative to the study file's folder, as a system
+        // file's FMU paths are (not to wherever the sweep is started from).
+        let base = path
+            .parent()
+            .filter(|p| !p.as_os_str().is_empty() && *p != Path::new("."));
+        for r in &mut runs {
+            for key in ["design", "fmu_dir"] {
+                match (r.args.get_mut(key), base) {
+                    (Some(v), Some(base)) if Path::new(v.as_str()).is_relative() => {
+                        *v = base.join(v.as_str()).to_string_lossy().into_owned();
+                    }
+                    _ => {}
+                }
+            }
+            // A folder without the FMUs would fail every run only once the sweep runs them.
+            if let Some(dir) = r.args.get("fmu_dir") {
+                if let Some(f) = ["rotor.fmu", "airfilm.fmu"]
+                    .iter()
+                    .find(|f| !Path::new(dir).join(f).is_file())
+                {
+                    return Err(err(format!(
+                        "run '{}': fmu_dir = '{dir}': no {f} there",
+                        r.name
+                    )));
+                }
+            }
+        }
         // Every point through the run-up's own flag parser and checks, so that `--list` (and
         // the sweep, before it starts anything) refuses what the run-up would refuse.
         for r in &runs {
@@ -508,6 +555,48 @@ d = [50]
         assert!(Study::parse("[[grid]]\nbogus = [1]\n", Path::new("x.toml"))
             .unwrap_err()
             .contains("'bogus' is not a run-up flag"));
+        // A study without a name takes its file's, made folder-free; a name given is checked.
+        let text = "[fixed]\nstop = 0.01\n[[grid]]\nc = [500]\n";
+        for (file, name) in [
+            ("we ird.toml", "we_ird"),
+            (".x y.toml", "x_y"),
+            ("t.toml", "t"),
+        ] {
+            assert_eq!(
+                Study::parse(text, Path::new(file)).unwrap().name,
+                name,
+                "{file}"
+            );
+        }
+        let e = Study::parse(&format!("name = \"a b\"\n{text}"), Path::new("t.toml")).unwrap_err();
+        assert!(
+            e.contains("name 'a b': a study name names its output folder"),
+            "{e}"
+        );
+        // Files a study names are taken from its own folder; a folder without the FMUs is
+        // refused by --list already.
+        let dir = std::env::temp_dir().join(format!("airring-study-paths-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("fm")).unwrap();
+        std::fs::write(dir.join("d.toml"), "[bearing]\nmount_d = \"60 N.s/m\"\n").unwrap();
+        let s = Study::parse(
+            &text.replace("[fixed]\n", "[fixed]\ndesign = \"d.toml\"\n"),
+            &dir.join("s.toml"),
+        )
+        .unwrap();
+        assert_eq!(
+            s.runs[0].args["design"],
+            dir.join("d.toml").to_string_lossy()
+        );
+        let e = Study::parse(
+            &text.replace("[fixed]\n", "[fixed]\nfmu_dir = \"fm\"\n"),
+            &dir.join("s.toml"),
+        )
+        .unwrap_err();
+        assert!(
+            e.contains("fmu_dir = '") && e.contains("fm': no rotor.fmu there"),
+            "{e}"
+        );
+        let _ = std::fs::remove_dir_all(&dir);
         assert_eq!(parse_shard("2/3"), Ok((2, 3)));
         assert!(parse_shard("0/3").is_err() && parse_shard("4/3").is_err());
     }
