@@ -86,6 +86,38 @@ fn the_stable_orbit_has_the_settled_whirls_eccentricities() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Above the linear threshold the equilibrium is unstable: a settle too short for the whirl to
+/// grow is "not settled", not "decaying: the equilibrium is stable here" (the start-up transient
+/// dies out first).
+#[test]
+fn a_settle_too_short_above_the_threshold_is_not_called_stable() {
+    let dir = common::tmp("orbits", "short-settle");
+    let mut settings = RunupSettings::preset("path1").unwrap();
+    (settings.n_elem_phi, settings.n_elem_z) = (8, 2);
+    let req = OrbitsRequest {
+        settings,
+        speeds_hz: vec![800.0],
+        settle_s: 0.05,
+        continuation: false,
+        full_state: false,
+        fmu_dir: root().join("target/fmu"),
+        out_dir: dir.clone(),
+    };
+    let report = find_orbits(&req, &mut |line| eprintln!("{line}")).unwrap();
+    let t = report.linear_threshold_hz.unwrap();
+    assert!(t < 800.0, "threshold {t} Hz");
+    let settled = &report.settled[0];
+    assert_eq!(settled.motion, "not settled", "{settled:?}");
+    let m = settled.message.as_deref().unwrap();
+    assert!(
+        m.contains("above the linear threshold")
+            && m.contains("settle longer")
+            && !m.contains("stable here"),
+        "{m}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Path 2b at 1250 Hz (80 Hz above its linear threshold) settles onto a 543 Hz whirl whose films
 /// remember more than a period: the reduced shooting (films relaxed onto the rotor's orbit)
 /// stalls there. The full state (rotor and both films' free pressures, 2 824 values) shot by

@@ -318,6 +318,20 @@ pub fn find_orbits(
                             "{speed} Hz is below the linear threshold {t:.1} Hz: the equilibrium is stable, no whirl to find{}",
                             rec.message.as_ref().map_or(String::new(), |m| format!(" ({m})"))
                         ));
+                    } else if crate::stability::analyse(&req.settings, &[speed])
+                        .is_ok_and(|r| r.unstable_at_first_speed)
+                    {
+                        // The equilibrium is unstable at this speed (an unstable band may close
+                        // again below the top speed: checked here, not from the threshold):
+                        // what looked settled or dying is the start-up transient, before the
+                        // whirl has grown.
+                        rec.message = Some(format!(
+                            "{speed} Hz is above the linear threshold {t:.1} Hz, so the equilibrium \
+                             is unstable, but no whirl grew within --settle {} s (the motion \
+                             looked {}): settle longer",
+                            req.settle_s, rec.motion
+                        ));
+                        rec.motion = "not settled".into();
                     }
                 }
                 if let Some((orbit, measures)) = orbit {
