@@ -168,10 +168,9 @@ enum Command {
     Classify {
         /// A run-up's folder (its timeseries.csv and system.toml).
         dir: PathBuf,
-        /// Nominal clearance C [um] of both bearings (default: each film's, from the run folder's
-        /// system.toml). The eccentricities are the films' own where the time series records
-        /// them (film_C.eps, film_T.eps); the clearance scales the rotor's displacements where it
-        /// does not (run folders of earlier versions).
+        /// Clearance C [um] of both bearings, for run folders whose system.toml names no air
+        /// films (a system of one's own); otherwise each film's, from that file, and a
+        /// different value is refused.
         #[arg(long)]
         clearance: Option<f64>,
     },
@@ -307,6 +306,21 @@ fn classify_command(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, S
     let c_m = match clearance_um {
         Some(c) => {
             master::runup::check_clearance_um(c)?;
+            // Where the run's films name their clearances, the film eccentricities are measured
+            // against those: another clearance would classify the amplitudes against one value
+            // and the eccentricities against another.
+            if let Some(bores) = master::run_folder::bores_of_run(dir)? {
+                if bores.iter().any(|b| (b.c_m * 1e6 - c).abs() > 1e-9 * c) {
+                    return Err(format!(
+                        "--clearance = {} um: the run's films ran with C = {} um and {} um \
+                         (its system.toml); --clearance is for run folders whose system file \
+                         names no air films",
+                        master::runup::fmt_number(c),
+                        master::runup::fmt_number(bores[0].c_m * 1e6),
+                        master::runup::fmt_number(bores[1].c_m * 1e6)
+                    ));
+                }
+            }
             [c / 1e6; 2]
         }
         None => match master::run_folder::bores_of_run(dir)? {

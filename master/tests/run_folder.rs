@@ -167,6 +167,24 @@ fn a_run_of_a_few_output_rows_is_too_short_not_unclassified() {
         !ok && err.contains("--clearance = 1e-9 um must lie between 0.01 um and 10000 um"),
         "{err}"
     );
+    // The run's films name their clearance: another one is refused, the same one taken.
+    let (ok, err) = airring(
+        &["classify", dir.to_str().unwrap(), "--clearance", "200"],
+        &[],
+    );
+    assert!(
+        !ok && err.contains("--clearance = 200 um: the run's films ran with C = 20 um and 20 um"),
+        "{err}"
+    );
+    // (This run is too short to classify: the same clearance passes on to that refusal.)
+    let (_, err) = airring(
+        &["classify", dir.to_str().unwrap(), "--clearance", "20"],
+        &[],
+    );
+    assert!(
+        err.contains("too short to classify") && !err.contains("--clearance"),
+        "{err}"
+    );
     // A completed run has nothing to resume, and says so.
     let (ok, err) = airring(&["resume", dir.to_str().unwrap()], &[]);
     assert!(
