@@ -124,9 +124,16 @@ impl RunLock {
                     let host = words.next().unwrap_or("").to_string();
                     let alive = match pid {
                         Some(pid) if host == host_name() => process_alive(pid),
-                        // Another host's process, or a lock still being written: respected.
+                        // Another host's process: it cannot be checked from here.
                         Some(_) => true,
-                        None => false,
+                        // Empty or unreadable: a lock still being written (respected while it
+                        // is young), or one a crash cut short.
+                        None => path
+                            .metadata()
+                            .and_then(|m| m.modified())
+                            .ok()
+                            .and_then(|t| t.elapsed().ok())
+                            .is_none_or(|age| age < std::time::Duration::from_secs(10)),
                     };
                     if alive {
                         return Err(format!(
@@ -429,6 +436,13 @@ mod tests {
         std::fs::write(dir.join(LOCK_FILE), format!("{gone} another-host\n")).unwrap();
         let e = RunLock::acquire(&dir).err().unwrap();
         assert!(e.contains("on another-host"), "{e}");
+        // An empty lock is one being written: respected while it is young.
+        std::fs::write(dir.join(LOCK_FILE), "").unwrap();
+        let e = RunLock::acquire(&dir).err().unwrap();
+        assert!(
+            e.contains("a run is in progress here (process ? on ?)"),
+            "{e}"
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 
