@@ -8,6 +8,7 @@
 pub mod bore;
 pub mod contact;
 pub mod journal;
+pub mod num;
 pub mod quadrature;
 
 pub use bore::{gap_m, lobe_minimum, min_gap_m, sampled_min_gap_m, Bore};
@@ -30,7 +31,9 @@ impl fmt::Display for InvalidParameter {
         write!(
             f,
             "invalid bearing parameter {} = {}: {}",
-            self.name, self.value, self.reason
+            self.name,
+            num::Num(self.value),
+            self.reason
         )
     }
 }

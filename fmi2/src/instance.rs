@@ -331,8 +331,13 @@ impl<M: Model> Instance<M> {
             }
         }
         if let Some(tol) = tolerance {
-            if !(tol.is_finite() && tol > 0.0) {
-                return err(format!("tolerance {tol} must be finite and > 0"));
+            // A relative tolerance: 1 and above would accept any error (the models' rtol has
+            // the same range; refused here, not later as a parameter the master never set).
+            if !(tol.is_finite() && tol > 0.0 && tol < 1.0) {
+                return err(format!(
+                    "tolerance {tol} must lie in (0, 1): it is the relative tolerance of the \
+                     model's error control"
+                ));
             }
         }
         let c = &mut self.core;
@@ -420,6 +425,14 @@ impl<M: Model> Instance<M> {
     /// Makes outputs current before a read in initialization mode.
     fn prepare_read(&mut self) -> Result<(), (Status, String)> {
         self.require(Self::READABLE)?;
+        // After a failed initialization there is no model: the store holds start values and
+        // zeros (h_min = 0 m, p_max = 0 Pa), which a master that ignores statuses would plot.
+        if self.core.phase == Phase::Error && self.core.model.is_none() {
+            return err(
+                "no values to read: the model could not be initialized (see the error logged \
+                 then); fmi2Reset starts again",
+            );
+        }
         if self.core.phase == Phase::InitializationMode {
             self.ensure_model()?;
         }
@@ -649,7 +662,7 @@ impl<M: Model> Instance<M> {
         let slack = 1e-12 * now.abs().max(h).max(1.0);
         if !t.is_finite() || (t - now).abs() > slack {
             return err(format!(
-                "currentCommunicationPoint {t} s does not match the FMU time {now} s (use fmi2SetFMUstate to go back)"
+                "currentCommunicationPoint {t} s does not match the FMU time {now} s (restore a saved FMU state to go back)"
             ));
         }
         if let Some(stop) = self.core.stop_time {

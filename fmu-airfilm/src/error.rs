@@ -1,5 +1,6 @@
 //! Errors of the air-film library. Every failure is reported as a value, never a panic or a NaN.
 
+use bearing::num::Num;
 use std::fmt;
 
 /// What went wrong in the air-film solver.
@@ -38,6 +39,14 @@ pub enum FilmError {
     SteadyNotConverged { iterations: usize, residual: f64 },
     /// The banded LU found an exactly zero pivot (singular Newton matrix).
     SingularMatrix { lobe: usize, row: usize },
+    /// The mesh's Newton matrices would not fit in the memory a film may take
+    /// ([`crate::integrator::MAX_NEWTON_MATRIX_BYTES`]): an allocation that size would abort
+    /// the host process instead of failing.
+    MeshTooLarge {
+        n_elem_phi: usize,
+        n_elem_z: usize,
+        bytes: f64,
+    },
 }
 
 impl fmt::Display for FilmError {
@@ -48,15 +57,26 @@ impl fmt::Display for FilmError {
                 value,
                 reason,
             } => {
-                write!(f, "invalid air-film parameter {name} = {value}: {reason}")
+                write!(
+                    f,
+                    "invalid air-film parameter {name} = {}: {reason}",
+                    Num(*value)
+                )
             }
             FilmError::InvalidInput { what, value, t_s } => {
-                write!(f, "invalid air-film input {what} = {value} at t = {t_s} s")
+                write!(
+                    f,
+                    "invalid air-film input {what} = {} at t = {} s",
+                    Num(*value),
+                    Num(*t_s)
+                )
             }
             FilmError::BeyondContactLimit { h_min_m, t_s } => write!(
                 f,
-                "journal beyond the contact limit at t = {t_s} s: minimum gap {h_min_m} m <= 0 \
-                 (the journal would penetrate the ring)"
+                "journal beyond the contact limit at t = {} s: minimum gap {} m <= 0 (the \
+                 journal would penetrate the ring)",
+                Num(*t_s),
+                Num(*h_min_m)
             ),
             FilmError::NewtonFailure {
                 t_reached_s,
@@ -65,16 +85,18 @@ impl fmt::Display for FilmError {
                 cause,
             } => write!(
                 f,
-                "Newton iteration of the Reynolds equation failed at t = {t_reached_s} s even with \
-                 sub-step {h_s} s (last failure: lobe {lobe}, {cause}); state kept at \
-                 t = {t_reached_s} s"
+                "Newton iteration of the Reynolds equation failed at t = {t} s even with \
+                 sub-step {h} s (last failure: lobe {lobe}, {cause}); state kept at t = {t} s",
+                t = Num(*t_reached_s),
+                h = Num(*h_s)
             ),
             FilmError::TooManySubsteps {
                 t_reached_s,
                 max_substeps,
             } => write!(
                 f,
-                "more than {max_substeps} sub-steps needed; state kept at t = {t_reached_s} s"
+                "more than {max_substeps} sub-steps needed; state kept at t = {} s",
+                Num(*t_reached_s)
             ),
             FilmError::SteadyNotConverged {
                 iterations,
@@ -87,6 +109,18 @@ impl fmt::Display for FilmError {
             FilmError::SingularMatrix { lobe, row } => {
                 write!(f, "singular Newton matrix in lobe {lobe} at row {row}")
             }
+            FilmError::MeshTooLarge {
+                n_elem_phi,
+                n_elem_z,
+                bytes,
+            } => write!(
+                f,
+                "mesh n_elem_phi x n_elem_z = {n_elem_phi} x {n_elem_z} per lobe needs ~{:.3} GB \
+                 for its Newton matrices, more than the {} GB a film may take: choose a coarser \
+                 mesh (the paper's is 20 x 6)",
+                bytes / 1e9,
+                crate::integrator::MAX_NEWTON_MATRIX_BYTES / 1e9
+            ),
         }
     }
 }

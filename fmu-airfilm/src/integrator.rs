@@ -56,6 +56,35 @@ const H_MIN_S: f64 = 1e-13;
 /// an FMU output); in the Section 3 run-ups the floor never acts.
 pub const P_FLOOR_REL: f64 = 1e-3;
 
+/// Most memory a film's Newton matrices may take [bytes], by [`newton_matrix_bytes`]: the
+/// paper's 20 x 6 mesh needs ~9 MB, 150 x 40 ~2.3 GB; 2000 x 500, inside the FMU's declared
+/// ranges, would need ~4.6 TB (193 GB for one matrix), and an allocation that fails aborts the
+/// process (the host's too) instead of returning an error.
+pub const MAX_NEWTON_MATRIX_BYTES: f64 = 4e9;
+
+/// Upper bound of the bytes a film's Newton matrices take with `p`'s mesh: every slot of every
+/// lobe with its spare copies, each in band storage with room for pivoting (f64) and its f32
+/// factors. The bandwidth is bounded from the numbering (`Mesh::new`): two phi lines of nodes,
+/// four on a plain bore, whose lines alternate around the circumference.
+pub fn newton_matrix_bytes(p: &BearingParams) -> f64 {
+    let periodic = p.bore.plain_bore;
+    let n_lines = if periodic {
+        2 * p.n_elem_phi
+    } else {
+        2 * p.n_elem_phi + 1
+    } as f64;
+    let nz = (2 * p.n_elem_z + 1) as f64;
+    let npb = n_lines * nz;
+    let kl = if periodic {
+        4.0 * nz + 2.0
+    } else {
+        2.0 * nz + 2.0
+    };
+    let per_matrix = npb * ((3.0 * kl + 1.0) * 8.0 + (2.0 * kl + 1.0) * 4.0);
+    let matrices = p.bore.n_blocks() * SLOTS_PER_LOBE * (1 + MAX_SPARE_MATRICES_PER_SLOT);
+    matrices as f64 * per_matrix
+}
+
 /// Counters of one `advance` call (or totals).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct StepStats {
@@ -904,6 +933,70 @@ pub(crate) fn outputs_for(
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    /// The memory bound holds the meshes' real bandwidths (equal on a lobed bore), and a mesh
+    /// inside the declared ranges whose matrices would not fit is refused by name instead of
+    /// aborting on its allocation.
+    #[test]
+    fn the_newton_matrices_memory_is_bounded_and_checked_before_allocation() {
+        for plain in [false, true] {
+            for (phi, z) in [(8, 2), (20, 3), (20, 6), (33, 5), (60, 12)] {
+                let p = BearingParams {
+                    n_elem_phi: phi,
+                    n_elem_z: z,
+                    ..if plain {
+                        BearingParams::plain_bore()
+                    } else {
+                        BearingParams::paper()
+                    }
+                };
+                let mesh = Mesh::new(&p);
+                let bound_kl = if plain {
+                    4 * mesh.nz + 2
+                } else {
+                    2 * mesh.nz + 2
+                };
+                assert!(
+                    mesh.kl <= bound_kl,
+                    "{phi}x{z} plain {plain}: kl {}",
+                    mesh.kl
+                );
+                if !plain {
+                    assert_eq!(mesh.kl, bound_kl, "{phi}x{z}");
+                }
+                let one = BandLu::new(mesh.npb, mesh.kl, mesh.ku);
+                let allocated = (one.ldab_for_test() * mesh.npb * 8) as f64;
+                let matrices = (mesh.n_blocks * SLOTS_PER_LOBE * 3) as f64;
+                assert!(newton_matrix_bytes(&p) >= matrices * allocated);
+            }
+        }
+        let paper = BearingParams::paper();
+        assert!(
+            newton_matrix_bytes(&paper) < 1e7,
+            "{}",
+            newton_matrix_bytes(&paper)
+        );
+        let huge = BearingParams {
+            n_elem_phi: 2000,
+            n_elem_z: 500,
+            ..paper.clone()
+        };
+        match huge.validate() {
+            Err(e @ FilmError::MeshTooLarge { .. }) => assert!(
+                e.to_string()
+                    .starts_with("mesh n_elem_phi x n_elem_z = 2000 x 500 per lobe needs ~4"),
+                "{e}"
+            ),
+            other => panic!("{other:?}"),
+        }
+        assert!(AirFilm::new(huge).is_err());
+        let fine = BearingParams {
+            n_elem_phi: 100,
+            n_elem_z: 30,
+            ..paper
+        };
+        assert!(fine.validate().is_ok());
+    }
 
     /// The prediction against the sequence it models: updates shrinking geometrically pass the
     /// convergence test exactly after the predicted number of further iterations.

@@ -346,6 +346,12 @@ impl BandLu {
         }
     }
 
+    /// Rows of the band storage as allocated (for the memory bound's test).
+    #[cfg(test)]
+    pub(crate) fn ldab_for_test(&self) -> usize {
+        self.ldab
+    }
+
     fn ldab_for(kl: usize, ku: usize, pivoting: bool) -> usize {
         if pivoting {
             2 * kl + ku + 1

@@ -89,13 +89,14 @@ impl BearingParams {
         };
         self.bore.validate()?;
         self.contact.validate()?;
+        // Named as the FMU names them where it has the parameter (atol, h_max).
         let floats = [
             ("eta", self.eta_pa_s),
             ("p_a", self.p_a_pa),
             ("rtol", self.rtol),
-            ("atol_pa", self.atol_pa),
+            ("atol", self.atol_pa),
             ("h_init_s", self.h_init_s),
-            ("h_max_s", self.h_max_s),
+            ("h_max", self.h_max_s),
             ("fixed_step_s", self.fixed_step_s),
         ];
         for (name, v) in floats {
@@ -146,21 +147,28 @@ impl BearingParams {
                 "mesh too fine (> 2000)",
             );
         }
+        let bytes = crate::integrator::newton_matrix_bytes(self);
+        if bytes > crate::integrator::MAX_NEWTON_MATRIX_BYTES {
+            return Err(FilmError::MeshTooLarge {
+                n_elem_phi: self.n_elem_phi,
+                n_elem_z: self.n_elem_z,
+                bytes,
+            });
+        }
         if !(self.rtol > 0.0 && self.rtol < 1.0) {
             return bad("rtol", self.rtol, "must lie in (0, 1)");
         }
         if self.atol_pa <= 0.0 {
-            return bad("atol_pa", self.atol_pa, "must be > 0");
+            return bad("atol", self.atol_pa, "must be > 0 Pa");
         }
         if self.max_substeps < 1 {
             return bad("max_substeps", 0.0, "must be >= 1");
         }
-        if self.h_init_s <= 0.0 || self.h_max_s <= 0.0 {
-            return bad(
-                "h_init_s",
-                self.h_init_s.min(self.h_max_s),
-                "initial and maximum step must be > 0",
-            );
+        if self.h_max_s <= 0.0 {
+            return bad("h_max", self.h_max_s, "largest sub-step must be > 0 s");
+        }
+        if self.h_init_s <= 0.0 {
+            return bad("h_init_s", self.h_init_s, "first sub-step must be > 0 s");
         }
         if self.fixed_step_s < 0.0 {
             return bad(

@@ -29,13 +29,19 @@ impl fmt::Display for RotorError {
                 value,
                 reason,
             } => {
-                write!(f, "invalid parameter {name} = {value}: {reason}")
+                write!(
+                    f,
+                    "invalid parameter {name} = {}: {reason}",
+                    bearing::num::Num(*value)
+                )
             }
             RotorError::InvalidInput(s) => write!(f, "invalid input: {s}"),
             RotorError::StepFailure { t_s, h_s, reason } => {
                 write!(
                     f,
-                    "integration failed at t = {t_s} s (h = {h_s} s): {reason}"
+                    "integration failed at t = {} s (h = {} s): {reason}",
+                    bearing::num::Num(*t_s),
+                    bearing::num::Num(*h_s)
                 )
             }
             RotorError::Singular(what) => write!(f, "singular matrix in {what}"),
@@ -257,6 +263,10 @@ impl RotorParams {
                 return bad(name, v, "must be > 0");
             }
         }
+        // As the air film's: a relative tolerance of 1 or more accepts any error.
+        if self.rtol >= 1.0 {
+            return bad("rtol", self.rtol, "must lie in (0, 1)");
+        }
         if self.max_steps_per_call == 0 || self.max_steps_per_call > MAX_STEPS_LIMIT {
             return bad(
                 "max_internal_steps",
@@ -264,33 +274,38 @@ impl RotorParams {
                 "must be 1 ..= 1000000",
             );
         }
+        // The FMU's own variable names, so that its log names what the user set.
         let dist = &self.disturbance;
         if !(dist.force_rms_n.is_finite() && dist.force_rms_n >= 0.0) {
             return bad(
-                "disturbance force",
+                "disturbance_force",
                 dist.force_rms_n,
                 "must be finite and >= 0",
             );
         }
         if !(dist.interval_s.is_finite() && dist.interval_s > 0.0) {
-            return bad("disturbance interval", dist.interval_s, "must be > 0");
+            return bad("disturbance_interval", dist.interval_s, "must be > 0");
         }
-        for im in &self.imbalance {
+        let imbalance_names = [
+            ["m_imb_C", "r_imb_C", "z_imb_C", "phase_imb_C"],
+            ["m_imb_T", "r_imb_T", "z_imb_T", "phase_imb_T"],
+        ];
+        for (im, [mass, radius, z, phase]) in self.imbalance.iter().zip(imbalance_names) {
             for (name, v) in [
-                ("imbalance mass", im.mass_kg),
-                ("imbalance radius", im.radius_m),
-                ("imbalance z", im.z_m),
-                ("imbalance phase", im.phase_rad),
+                (mass, im.mass_kg),
+                (radius, im.radius_m),
+                (z, im.z_m),
+                (phase, im.phase_rad),
             ] {
                 if !v.is_finite() {
                     return bad(name, v, "must be finite");
                 }
             }
             if im.mass_kg < 0.0 {
-                return bad("imbalance mass", im.mass_kg, "must be >= 0");
+                return bad(mass, im.mass_kg, "must be >= 0");
             }
             if im.radius_m < 0.0 {
-                return bad("imbalance radius", im.radius_m, "must be >= 0");
+                return bad(radius, im.radius_m, "must be >= 0");
             }
         }
         for b in self.contact.iter().flatten() {
@@ -338,6 +353,44 @@ pub struct SpeedTable {
     phi_rad: [f64; MAX_SPEED_POINTS],
 }
 
+/// The FMU's names of the speed table's points, for errors that name the point.
+const SPEED_TABLE_T: [&str; MAX_SPEED_POINTS] = [
+    "speed_table_t_01",
+    "speed_table_t_02",
+    "speed_table_t_03",
+    "speed_table_t_04",
+    "speed_table_t_05",
+    "speed_table_t_06",
+    "speed_table_t_07",
+    "speed_table_t_08",
+    "speed_table_t_09",
+    "speed_table_t_10",
+    "speed_table_t_11",
+    "speed_table_t_12",
+    "speed_table_t_13",
+    "speed_table_t_14",
+    "speed_table_t_15",
+    "speed_table_t_16",
+];
+const SPEED_TABLE_F: [&str; MAX_SPEED_POINTS] = [
+    "speed_table_f_01",
+    "speed_table_f_02",
+    "speed_table_f_03",
+    "speed_table_f_04",
+    "speed_table_f_05",
+    "speed_table_f_06",
+    "speed_table_f_07",
+    "speed_table_f_08",
+    "speed_table_f_09",
+    "speed_table_f_10",
+    "speed_table_f_11",
+    "speed_table_f_12",
+    "speed_table_f_13",
+    "speed_table_f_14",
+    "speed_table_f_15",
+    "speed_table_f_16",
+];
+
 impl SpeedTable {
     /// Checks the points: 2 ..= 16 of them, the first at t = 0, times strictly increasing, speeds
     /// finite and >= 0.
@@ -357,12 +410,12 @@ impl SpeedTable {
                 "a speed table has 2 to 16 points (0: the linear run-up)",
             );
         }
-        for &(t, f) in points {
+        for (k, &(t, f)) in points.iter().enumerate() {
             if !t.is_finite() {
-                return bad("speed_table_t", t, "must be finite");
+                return bad(SPEED_TABLE_T[k], t, "must be finite");
             }
             if !(f.is_finite() && f >= 0.0) {
-                return bad("speed_table_f", f, "speed must be finite and >= 0 Hz");
+                return bad(SPEED_TABLE_F[k], f, "speed must be finite and >= 0 Hz");
             }
         }
         if points[0].0 != 0.0 {
@@ -372,10 +425,10 @@ impl SpeedTable {
                 "the first point is at t = 0",
             );
         }
-        for w in points.windows(2) {
+        for (k, w) in points.windows(2).enumerate() {
             if w[1].0 <= w[0].0 {
                 return bad(
-                    "speed_table_t",
+                    SPEED_TABLE_T[k + 1],
                     w[1].0,
                     "times must increase strictly from point to point",
                 );

@@ -20,11 +20,23 @@ fn invalid_parameters_are_reported() {
         ("c_C", Box::new(|p| p.c_c_n_m = -5.0)),
         ("t_ramp", Box::new(|p| p.t_ramp_s = 0.0)),
         ("g", Box::new(|p| p.g_m_s2 = f64::NAN)),
+        // The FMU's variable names (imbalance[0] is the compressor wheel's, C).
+        ("m_imb_C", Box::new(|p| p.imbalance[0].mass_kg = -1e-3)),
+        ("r_imb_T", Box::new(|p| p.imbalance[1].radius_m = -1e-3)),
         (
-            "imbalance mass",
-            Box::new(|p| p.imbalance[0].mass_kg = -1e-3),
+            "disturbance_interval",
+            Box::new(|p| p.disturbance.interval_s = 0.0),
+        ),
+        (
+            "speed_table_t_03",
+            Box::new(|p| p.speed_table = vec![(0.0, 0.0), (1.0, 100.0), (1.0, 200.0)]),
+        ),
+        (
+            "speed_table_f_02",
+            Box::new(|p| p.speed_table = vec![(0.0, 0.0), (1.0, -100.0)]),
         ),
         ("max_internal_steps", Box::new(|p| p.max_steps_per_call = 0)),
+        ("rtol", Box::new(|p| p.rtol = 1.0)),
     ];
     for (name, f) in cases {
         let mut p = RotorParams::paper();

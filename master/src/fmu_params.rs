@@ -424,8 +424,13 @@ mod tests {
             ),
             (
                 "film",
-                "invalid air-film parameter atol_pa = -1: must be > 0",
-                "invalid air-film parameter atol_pa = -1: must be > 0",
+                "invalid air-film parameter atol = -1: must be > 0 Pa",
+                "invalid air-film parameter atol = -1 Pa: must be > 0 Pa",
+            ),
+            (
+                "film",
+                "invalid air-film parameter h_init_s = -1: first sub-step must be > 0 s",
+                "invalid air-film parameter h_init_s = -1: first sub-step must be > 0 s",
             ),
             (
                 "rotor",

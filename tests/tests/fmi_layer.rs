@@ -127,6 +127,16 @@ fn wrong_call_order_is_refused_with_a_reason() {
         Status::Error
     );
     assert_eq!(s.terminate().unwrap_err().status, Status::Error);
+    // A relative tolerance of 1 or more is refused where it is given, naming it.
+    for tol in [1.0, 2.0, 0.0, f64::NAN] {
+        assert_eq!(
+            s.setup_experiment(Some(tol), 0.0, Some(1.0))
+                .unwrap_err()
+                .status,
+            Status::Error
+        );
+    }
+    assert!(book.contains("tolerance 2 must lie in (0, 1)"));
     // The instance is still usable after refused calls.
     s.setup_experiment(None, 0.0, Some(1.0)).unwrap();
     s.enter_initialization_mode().unwrap();

@@ -173,6 +173,10 @@ fn exit_init_fails(set: impl FnOnce(&Slave), reason: &str) {
         "expected '{reason}' in {:?}",
         book.0.lock().unwrap()
     );
+    // No model, no outputs: reading them is an error, not zeros with fmi2OK.
+    let e = s.get_real(&[vr::H_MIN], &mut [0.0]).unwrap_err();
+    assert_eq!(e.status, Status::Error);
+    assert!(book.contains("no values to read: the model could not be initialized"));
 }
 
 #[test]
@@ -197,6 +201,20 @@ fn non_physical_parameters_are_refused_with_a_reason() {
             s.set_integer(&[vr::N_ELEM_PHI], &[4]).unwrap()
         },
         "n_elem_phi",
+    );
+    // Inside the declared ranges but beyond memory: refused, the host process lives on (before:
+    // a 193 GB allocation aborted it). Numbers in messages are short (1e300, not 300 digits).
+    exit_init_fails(
+        |s| {
+            s.set_integer(&[vr::N_ELEM_PHI, vr::N_ELEM_Z], &[2000, 500])
+                .unwrap()
+        },
+        "mesh n_elem_phi x n_elem_z = 2000 x 500 per lobe needs ~",
+    );
+    exit_init_fails(|s| s.set_real(&[vr::R], &[1e300]).unwrap(), "r = 1e300:");
+    exit_init_fails(
+        |s| s.set_real(&[vr::H_MAX], &[-1.0]).unwrap(),
+        "h_max = -1: largest sub-step must be > 0 s",
     );
     // Absurd magnitudes (before: accepted; r = 1e300 m made a discarded step's forces inf).
     exit_init_fails(|s| s.set_real(&[vr::C], &[1e300]).unwrap(), "C");
