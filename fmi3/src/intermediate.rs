@@ -25,6 +25,9 @@ pub struct Buffer {
     pub(crate) reals: Vec<f64>,
     /// Which fmi2 Real value references are inputs (may be set in a callback).
     pub(crate) is_input: Vec<bool>,
+    /// The Real variables' names by fmi2 value reference, for messages (the master knows its
+    /// variables by name and FMI 3.0 value reference, not by ours).
+    pub(crate) names: Vec<&'static str>,
     /// Calls refused while the model stepped (logged by fmi3DoStep afterwards: the logger belongs
     /// to the stepping instance).
     pub(crate) refused: Vec<(String, String)>,
@@ -33,14 +36,18 @@ pub struct Buffer {
 impl Buffer {
     /// A buffer for a model with these variables (which Reals are inputs is fixed per model).
     pub(crate) fn for_model(info: &fmi2::ModelInfo) -> Self {
-        let mut is_input = vec![false; info.count(fmi2::VarType::Real)];
+        let n = info.count(fmi2::VarType::Real);
+        let mut is_input = vec![false; n];
+        let mut names = vec![""; n];
         for v in &info.variables {
-            if v.var_type == fmi2::VarType::Real && v.causality == fmi2::Causality::Input {
-                is_input[v.vr as usize] = true;
+            if v.var_type == fmi2::VarType::Real {
+                names[v.vr as usize] = v.name;
+                is_input[v.vr as usize] = v.causality == fmi2::Causality::Input;
             }
         }
         Buffer {
             is_input,
+            names,
             ..Default::default()
         }
     }
@@ -58,16 +65,21 @@ impl Buffer {
         if !self.open {
             return Err("called during fmi3DoStep outside an intermediateUpdate callback".into());
         }
+        let name = |vr: u32| match self.names.get(vr as usize) {
+            Some(n) if !n.is_empty() => format!("'{n}'"),
+            _ => format!("Float64 value reference {vr} (of this FMU's numbering)"),
+        };
         if let Some(vr) = vrs
             .iter()
             .find(|vr| !self.is_input.get(**vr as usize).copied().unwrap_or(false))
         {
             return Err(format!(
-                "value reference {vr} is not an input with intermediateUpdate=\"true\""
+                "{} is not an input with intermediateUpdate=\"true\"",
+                name(*vr)
             ));
         }
         if let Some((vr, v)) = vrs.iter().zip(values).find(|(_, v)| !v.is_finite()) {
-            return Err(format!("value {v} for value reference {vr} is not finite"));
+            return Err(format!("value {v} for {} is not finite", name(*vr)));
         }
         for (vr, v) in vrs.iter().zip(values) {
             self.reals[*vr as usize] = *v;

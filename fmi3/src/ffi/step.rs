@@ -111,8 +111,22 @@ pub unsafe fn do_step<M: Model>(
                 let status = inst.run(F, state::MASK_DO_STEP, |i| step(i, Some(&source)));
                 drop(guard);
                 let mut buffer = shell.buffer.borrow_mut();
-                for (function, reason) in buffer.refused.drain(..) {
-                    inst.reject(Status::Error, &function, &reason);
+                // Once per distinct refusal: a callback refused at every internal time would
+                // otherwise log the same line 17 times for one step.
+                let mut refused: Vec<((String, String), usize)> = vec![];
+                for call in buffer.refused.drain(..) {
+                    match refused.iter_mut().find(|(c, _)| *c == call) {
+                        Some((_, n)) => *n += 1,
+                        None => refused.push((call, 1)),
+                    }
+                }
+                for ((function, reason), n) in refused {
+                    let times = if n > 1 {
+                        format!(" ({n} times in this step)")
+                    } else {
+                        String::new()
+                    };
+                    inst.reject(Status::Error, &function, &format!("{reason}{times}"));
                 }
                 // FMI 3.0: an input keeps the value the master set last.
                 for (vr, v) in buffer.reals.iter().enumerate() {

@@ -204,8 +204,10 @@ fn inside_a_callback_only_inputs_may_be_set() {
         Box::new(|c, t| {
             let mut e = (true, true, true, 0.0);
             vec![
-                // Refused: an output, a non-finite value, a read, a nested step, a state.
+                // Refused: an output, a non-finite value (twice: logged once), a read, a nested
+                // step, a state.
                 set(c, &[vr::Y], &[1.0]),
+                set(c, &[vr::U], &[f64::NAN]),
                 set(c, &[vr::U], &[f64::NAN]),
                 get(c, &[vr::U]).0,
                 // SAFETY: four writable outputs.
@@ -220,7 +222,7 @@ fn inside_a_callback_only_inputs_may_be_set() {
     assert_eq!(step(c, 0.0, 0.01), FMI3_OK);
     assert_eq!(
         *m.statuses.borrow(),
-        [FMI3_ERROR, FMI3_ERROR, FMI3_ERROR, FMI3_ERROR, FMI3_ERROR, FMI3_OK]
+        [FMI3_ERROR, FMI3_ERROR, FMI3_ERROR, FMI3_ERROR, FMI3_ERROR, FMI3_ERROR, FMI3_OK]
     );
     let y = Lag::exact(0.0, 5.0, 0.25, 0.01);
     assert_eq!(get(c, &[vr::Y]).1[0].to_bits(), y.to_bits());
@@ -232,12 +234,17 @@ fn inside_a_callback_only_inputs_may_be_set() {
         .map(|(_, msg)| msg)
         .collect();
     assert_eq!(errors.len(), 5, "{log:?}");
+    // By the variables' names (not the layer's own value references).
     assert!(
-        errors[0].contains("not an input with intermediateUpdate"),
+        errors[0].contains("'y' is not an input with intermediateUpdate"),
         "{}",
         errors[0]
     );
-    assert!(errors[1].contains("not finite"), "{}", errors[1]);
+    assert!(
+        errors[1].contains("value NaN for 'u' is not finite (2 times in this step)"),
+        "{}",
+        errors[1]
+    );
     for e in &errors[2..] {
         assert!(e.contains("intermediateUpdate callback"), "{e}");
     }
