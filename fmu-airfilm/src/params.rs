@@ -164,8 +164,18 @@ impl BearingParams {
         if self.max_substeps < 1 {
             return bad("max_substeps", 0.0, "must be >= 1");
         }
-        if self.h_max_s <= 0.0 {
-            return bad("h_max", self.h_max_s, "largest sub-step must be > 0 s");
+        // Below 1e-12 s the step control cannot step at all (its floor is 1e-13 s): 1e-300
+        // failed the first step as a Newton failure that named no parameter.
+        if self.h_max_s < 1e-12 {
+            return bad("h_max", self.h_max_s, "largest sub-step must be >= 1e-12 s");
+        }
+        // An absolute tolerance above the ambient pressure controls nothing.
+        if self.atol_pa > self.p_a_pa {
+            return bad(
+                "atol",
+                self.atol_pa,
+                "must not exceed the ambient pressure p_a",
+            );
         }
         if self.h_init_s <= 0.0 {
             return bad("h_init_s", self.h_init_s, "first sub-step must be > 0 s");

@@ -244,6 +244,24 @@ impl RotorParams {
                 return bad(name, v, "must be >= 0");
             }
         }
+        // Sane bounds far outside any turbo-compressor, inside what the model and f64 carry
+        // (f_max = 1e300 Hz gave an omega output of 2e297 rad/s).
+        if self.f_max_hz > MAX_SPEED_LIMIT_HZ {
+            return bad("f_max", self.f_max_hz, "must lie between 0 and 1e5 Hz");
+        }
+        for (name, v) in [
+            ("z_cm", self.z_cm_m),
+            ("z_JC", self.z_jc_m),
+            ("z_JT", self.z_jt_m),
+        ] {
+            if v.abs() > 10.0 {
+                return bad(
+                    name,
+                    v,
+                    "axial positions must lie within 10 m of the rotor end",
+                );
+            }
+        }
         if self.t_ramp_s <= 0.0 {
             return bad("t_ramp", self.t_ramp_s, "run-up time must be > 0");
         }
@@ -304,8 +322,25 @@ impl RotorParams {
             if im.mass_kg < 0.0 {
                 return bad(mass, im.mass_kg, "must be >= 0");
             }
+            // An imbalance is a small part of the rotor: 1e300 kg made the first step's
+            // iteration matrix singular.
+            if im.mass_kg > self.m_kg {
+                return bad(mass, im.mass_kg, "must not exceed the rotor mass m");
+            }
             if im.radius_m < 0.0 {
                 return bad(radius, im.radius_m, "must be >= 0");
+            }
+            if im.radius_m > 1.0 || im.z_m.abs() > 10.0 {
+                let (name, v) = if im.radius_m > 1.0 {
+                    (radius, im.radius_m)
+                } else {
+                    (z, im.z_m)
+                };
+                return bad(
+                    name,
+                    v,
+                    "must lie within 1 m (radius) and 10 m (z) of the rotor",
+                );
             }
         }
         for b in self.contact.iter().flatten() {
@@ -338,6 +373,9 @@ fn contact_name(film_name: &str) -> &'static str {
         _ => "bearing geometry",
     }
 }
+
+/// Highest speed a rotor takes [Hz]: 50 times the paper's top speed.
+pub const MAX_SPEED_LIMIT_HZ: f64 = 1e5;
 
 /// Most points of a speed table (the FMU's `speed_table_t_01` ... `_16`).
 pub const MAX_SPEED_POINTS: usize = 16;

@@ -37,6 +37,10 @@ fn invalid_parameters_are_reported() {
         ),
         ("max_internal_steps", Box::new(|p| p.max_steps_per_call = 0)),
         ("rtol", Box::new(|p| p.rtol = 1.0)),
+        ("f_max", Box::new(|p| p.f_max_hz = 1e300)),
+        ("z_JT", Box::new(|p| p.z_jt_m = -1e300)),
+        ("m_imb_T", Box::new(|p| p.imbalance[1].mass_kg = 1e300)),
+        ("z_imb_C", Box::new(|p| p.imbalance[0].z_m = 1e3)),
     ];
     for (name, f) in cases {
         let mut p = RotorParams::paper();

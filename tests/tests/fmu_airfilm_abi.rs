@@ -214,7 +214,7 @@ fn non_physical_parameters_are_refused_with_a_reason() {
     exit_init_fails(|s| s.set_real(&[vr::R], &[1e300]).unwrap(), "r = 1e300:");
     exit_init_fails(
         |s| s.set_real(&[vr::H_MAX], &[-1.0]).unwrap(),
-        "h_max = -1: largest sub-step must be > 0 s",
+        "h_max = -1: largest sub-step must be >= 1e-12 s",
     );
     // Absurd magnitudes (before: accepted; r = 1e300 m made a discarded step's forces inf).
     exit_init_fails(|s| s.set_real(&[vr::C], &[1e300]).unwrap(), "C");
