@@ -68,7 +68,7 @@ enum Command {
         /// No progress lines (each finished run and the closing summary are still printed).
         #[arg(long)]
         quiet: bool,
-        /// Run again the completed runs in the output folder that were made with other settings
+        /// Run again the completed runs in the output folder that were made with other flags
         /// (an edited study file); without it such a folder is refused, naming them.
         #[arg(long)]
         overwrite: bool,
