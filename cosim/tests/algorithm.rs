@@ -221,6 +221,25 @@ fn system_file_errors_name_file_line_and_field() {
     }
 }
 
+/// `sys` run into `dir` with checkpoints every 0.05 s, halted at 0.1234 s.
+fn halt(sys: &std::path::Path, dir: &std::path::Path) -> RunReport {
+    let o = RunConfig {
+        checkpoint_every_s: Some(0.05),
+        halt_at_s: Some(0.1234),
+        ..RunConfig::new(dir)
+    };
+    run(sys, &o, false).unwrap()
+}
+
+/// The run in `dir` resumed from its checkpoint (still checkpointing every 0.05 s).
+fn resume(dir: &std::path::Path) -> RunReport {
+    let o = RunConfig {
+        checkpoint_every_s: Some(0.05),
+        ..RunConfig::new(dir)
+    };
+    run(&dir.join("system.toml"), &o, true).unwrap()
+}
+
 #[test]
 fn checkpoint_resume_gives_the_uninterrupted_series() {
     let dir_full = tmp("full");
@@ -230,18 +249,9 @@ fn checkpoint_resume_gives_the_uninterrupted_series() {
     std::fs::write(&sys, &text).unwrap();
     run(&sys, &RunConfig::new(&dir_full), false).unwrap();
 
-    let o = RunConfig {
-        checkpoint_every_s: Some(0.05),
-        halt_at_s: Some(0.1234),
-        ..RunConfig::new(&dir_cut)
-    };
-    let first = run(&sys, &o, false).unwrap();
+    let first = halt(&sys, &dir_cut);
     assert!(first.interrupted && !first.completed);
-    let o = RunConfig {
-        checkpoint_every_s: Some(0.05),
-        ..RunConfig::new(&dir_cut)
-    };
-    let second = run(&dir_cut.join("system.toml"), &o, true).unwrap();
+    let second = resume(&dir_cut);
     assert!(second.completed);
     let full = std::fs::read(dir_full.join("timeseries.csv")).unwrap();
     let resumed = std::fs::read(dir_cut.join("timeseries.csv")).unwrap();
@@ -269,23 +279,13 @@ fn a_run_of_a_system_file_with_relative_fmu_paths_resumes_from_its_folder() {
     let sys = src.join("input.toml");
     std::fs::write(&sys, &text).unwrap();
     run(&sys, &RunConfig::new(&dir_full), false).unwrap();
-    let o = RunConfig {
-        checkpoint_every_s: Some(0.05),
-        halt_at_s: Some(0.1234),
-        ..RunConfig::new(&dir_cut)
-    };
-    assert!(run(&sys, &o, false).unwrap().interrupted);
+    assert!(halt(&sys, &dir_cut).interrupted);
     let copy = std::fs::read_to_string(dir_cut.join("system.toml")).unwrap();
     assert!(
         copy.ends_with(&text),
         "the user's file follows the added lines unchanged"
     );
-    let o = RunConfig {
-        checkpoint_every_s: Some(0.05),
-        ..RunConfig::new(&dir_cut)
-    };
-    let second = run(&dir_cut.join("system.toml"), &o, true).unwrap();
-    assert!(second.completed);
+    assert!(resume(&dir_cut).completed);
     assert_eq!(
         std::fs::read(dir_full.join("timeseries.csv")).unwrap(),
         std::fs::read(dir_cut.join("timeseries.csv")).unwrap()

@@ -207,10 +207,9 @@ impl RunupSettings {
                 return Err(format!("--{name} = {order} must be 0, 1 or 2"));
             }
         }
-        // The air-film FMU's own lower bounds (n_elem_phi >= 4, n_elem_z >= 2).
-        if self.n_elem_phi < 4 || self.n_elem_z < 2 {
+        if let Some(why) = mesh_out_of_bounds(self.n_elem_phi as u64, self.n_elem_z as u64) {
             return Err(format!(
-                "mesh {}x{} is too coarse (at least 4x2 elements per lobe)",
+                "mesh {}x{} is {why}",
                 self.n_elem_phi, self.n_elem_z
             ));
         }
@@ -761,19 +760,24 @@ pub fn parse_mesh(text: &str, flag: &str) -> Result<(u32, u32), String> {
         p.trim().parse().map_err(|_| bad())?,
         z.trim().parse().map_err(|_| bad())?,
     );
-    // The air-film FMU's own bounds (n_elem_phi 4-2000, n_elem_z 2-500): checked here so that
-    // no flag reaches a run or a prediction that every film would refuse.
-    if p < 4 || z < 2 {
-        return Err(format!(
-            "{flag} '{text}': mesh too coarse (at least 4x2 elements per lobe)"
-        ));
-    }
-    if p > 2000 || z > 500 {
-        return Err(format!(
-            "{flag} '{text}': mesh too fine (at most 2000x500 elements per lobe)"
-        ));
+    // Checked here too, so that no flag reaches a run or a prediction that every film would
+    // refuse.
+    if let Some(why) = mesh_out_of_bounds(p.into(), z.into()) {
+        return Err(format!("{flag} '{text}': mesh {why}"));
     }
     Ok((p, z))
+}
+
+/// Why a film mesh of `phi` x `z` elements per lobe is outside the air-film FMU's own bounds
+/// (n_elem_phi 4-2000, n_elem_z 2-500), if it is.
+fn mesh_out_of_bounds(phi: u64, z: u64) -> Option<&'static str> {
+    if phi < 4 || z < 2 {
+        Some("too coarse (at least 4x2 elements per lobe)")
+    } else if phi > 2000 || z > 500 {
+        Some("too fine (at most 2000x500 elements per lobe)")
+    } else {
+        None
+    }
 }
 
 /// Variables every run-up records (the analysis and the plots read them by these names).
