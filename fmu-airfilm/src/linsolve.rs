@@ -191,10 +191,11 @@ fn update_trailing_columns(
     km: usize,
     c_last: usize,
 ) {
-    if km == FILM_KL {
-        update_trailing_columns_fixed::<FILM_KL>(ab, ldab, ub, j, c_last)
-    } else {
-        update_trailing_columns_any(ab, ldab, ub, j, km, c_last)
+    match km {
+        FILM_KL_20X3 => update_trailing_columns_fixed::<FILM_KL_20X3>(ab, ldab, ub, j, c_last),
+        FILM_KL_20X4 => update_trailing_columns_fixed::<FILM_KL_20X4>(ab, ldab, ub, j, c_last),
+        FILM_KL => update_trailing_columns_fixed::<FILM_KL>(ab, ldab, ub, j, c_last),
+        _ => update_trailing_columns_any(ab, ldab, ub, j, km, c_last),
     }
 }
 
@@ -251,6 +252,12 @@ fn subtract_four_columns_fixed<const N: usize, T: Entry>(
 /// reciprocal diagonal) 9.7-10.0 -> 7.9-9.3 us (`cargo bench -p fmu-airfilm --bench kernels`,
 /// alternated 3 times). Other bandwidths take the loops.
 const FILM_KL: usize = 28;
+
+/// The same for the run-ups' meshes since 2026-12-05 (`film_mesh_for` in the master): 20 x 3 (7
+/// nodes across, kl 16) and 20 x 4 (9 nodes across, kl 20). Until 2026-12-06 only the paper
+/// mesh's 28 had them and the run-ups' lobes took the loops.
+const FILM_KL_20X3: usize = 16;
+const FILM_KL_20X4: usize = 20;
 
 /// `update_trailing_columns` for km = KM known at compile time: L's column is read once into
 /// registers and every trailing column's update is KM / lanes vector operations without a loop
@@ -962,23 +969,26 @@ mod tests {
     #[test]
     fn the_fixed_length_kernels_equal_the_loops_bit_for_bit() {
         let mut seed = 11u64;
-        let (n, kl, ku) = (90, FILM_KL, FILM_KL);
-        let ldab = kl + ku + 1;
-        for j in [0, 17, 40] {
-            let mut ab: Vec<f64> = (0..ldab * n).map(|_| next(&mut seed)).collect();
-            for c in (j + 1..j + ku).step_by(5) {
-                ab[ku + j - c + c * ldab] = 0.0;
+        for kl in [FILM_KL_20X3, FILM_KL_20X4, FILM_KL] {
+            let (n, ku) = (90, kl);
+            let ldab = kl + ku + 1;
+            for j in [0, 17, 40] {
+                let mut ab: Vec<f64> = (0..ldab * n).map(|_| next(&mut seed)).collect();
+                for c in (j + 1..j + ku).step_by(5) {
+                    ab[ku + j - c + c * ldab] = 0.0;
+                }
+                let before = ab.clone();
+                let mut ab_any = ab.clone();
+                let c_last = j + ku;
+                // Through the dispatch, which must pick the fixed kernel for these lengths.
+                update_trailing_columns(&mut ab, ldab, ku, j, kl, c_last);
+                update_trailing_columns_any(&mut ab_any, ldab, ku, j, kl, c_last);
+                assert!(ab
+                    .iter()
+                    .zip(&ab_any)
+                    .all(|(a, b)| a.to_bits() == b.to_bits()));
+                assert_ne!(ab, before, "the update changed the trailing columns");
             }
-            let before = ab.clone();
-            let mut ab_any = ab.clone();
-            let c_last = j + ku;
-            update_trailing_columns_fixed::<FILM_KL>(&mut ab, ldab, ku, j, c_last);
-            update_trailing_columns_any(&mut ab_any, ldab, ku, j, FILM_KL, c_last);
-            assert!(ab
-                .iter()
-                .zip(&ab_any)
-                .all(|(a, b)| a.to_bits() == b.to_bits()));
-            assert_ne!(ab, before, "the update changed the trailing columns");
         }
         const N: usize = FILM_KL - 3;
         let cols: Vec<Vec<f64>> = (0..4)
