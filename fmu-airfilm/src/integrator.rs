@@ -56,6 +56,23 @@ const H_MIN_S: f64 = 1e-13;
 /// an FMU output); in the Section 3 run-ups the floor never acts.
 pub const P_FLOOR_REL: f64 = 1e-3;
 
+/// A film's f64 factors (every slot of every lobe, without row interchanges) up to which its
+/// solves read them as they are: 1 MB, one core's L2 on the project machine.
+const F64_FACTORS_IN_CACHE_BYTES: usize = 1 << 20;
+
+/// Whether the Newton solves should read factors rounded to f32: only where the film's f64
+/// factors do not fit in a core's cache. On the paper mesh (1.46 MB per film) that paid when it
+/// came (path 1 to 1.6 s with serial films 0.895; the Newton and Jacobian counts the same, the
+/// onset 1e-10 s apart). On the run-ups' meshes since session 28 (20 x 3: 0.46 MB, 20 x 4:
+/// 0.73 MB) it cost: one lobe's solves with six lobes' matrices in turn 3.07 against 2.84 us at
+/// 20 x 3 and 6.2-10.5 against 4.0-6.5 us at 20 x 4, the factorization with its rounding pass
+/// 39-40 against 27-29 us at 20 x 4 (kernel bench, 2026-12-06).
+fn single_precision_solves_pay(mesh: &Mesh) -> bool {
+    let ldab = mesh.kl + mesh.ku + 1;
+    let bytes = mesh.n_blocks * SLOTS_PER_LOBE * mesh.npb * ldab * std::mem::size_of::<f64>();
+    bytes > F64_FACTORS_IN_CACHE_BYTES
+}
+
 /// Most memory a film's Newton matrices may take [bytes], by [`newton_matrix_bytes`]: the
 /// paper's 20 x 6 mesh needs ~9 MB, 150 x 40 ~2.3 GB; 2000 x 500, inside the FMU's declared
 /// ranges, would need ~4.6 TB (193 GB for one matrix), and an allocation that fails aborts the
@@ -687,9 +704,9 @@ impl AirFilm {
                     // factorized with partial pivoting.
                     let lu = matrix_to_refactor(&mut self.lu[m], &mut s.spare_lu, &self.mesh);
                     // Modified Newton: the solves stream the factors at every iteration, and
-                    // f32 halves that traffic (path 1 to 1.6 s with serial films 0.895; the
-                    // Newton and Jacobian counts the same, the onset 1e-10 s apart).
-                    lu.set_single_precision_solves(true);
+                    // f32 halves that traffic where it does not fit in a core's cache (see
+                    // `single_precision_solves_pay`).
+                    lu.set_single_precision_solves(single_precision_solves_pay(&self.mesh));
                     self.lu_valid[m] = false;
                     let (gap, p_new) = (&s.gap, &s.p_new[r.clone()]);
                     let factored = lu.assemble_and_factor(|lu| {
@@ -933,6 +950,47 @@ pub(crate) fn outputs_for(
 mod tests {
     use super::*;
     use std::f64::consts::PI;
+
+    /// f32 factors only where the f64 ones would not fit in a core's cache: the paper mesh, not
+    /// the run-ups' 20 x 3 and 20 x 4; and a film on the paper mesh then solves with them.
+    #[test]
+    fn single_precision_solves_only_where_the_factors_do_not_fit_in_cache() {
+        let mesh_for = |phi, z| {
+            Mesh::new(&BearingParams {
+                n_elem_phi: phi,
+                n_elem_z: z,
+                ..BearingParams::paper()
+            })
+        };
+        assert!(single_precision_solves_pay(&mesh_for(20, 6)));
+        assert!(!single_precision_solves_pay(&mesh_for(20, 4)));
+        assert!(!single_precision_solves_pay(&mesh_for(20, 3)));
+        for (z, f32_expected) in [(6, true), (3, false)] {
+            let p = BearingParams {
+                n_elem_z: z,
+                ..BearingParams::paper()
+            };
+            let mut film = AirFilm::new(p).unwrap();
+            let omega = 2.0 * PI * 500.0;
+            let j = move |_t: f64| JournalState {
+                dx_m: 4e-6,
+                dy_m: -2e-6,
+                vx_m_s: 0.0,
+                vy_m_s: 0.0,
+                omega_rad_s: omega,
+            };
+            film.advance(0.0, 1e-4, &j).unwrap();
+            let used: Vec<bool> = film
+                .lu
+                .iter()
+                .zip(&film.lu_valid)
+                .filter(|(_, v)| **v)
+                .map(|(lu, _)| lu.solves_in_single_precision())
+                .collect();
+            assert!(!used.is_empty(), "no factorized matrix after a step");
+            assert!(used.iter().all(|&u| u == f32_expected), "{z}: {used:?}");
+        }
+    }
 
     /// The memory bound holds the meshes' real bandwidths (equal on a lobed bore), and a mesh
     /// inside the declared ranges whose matrices would not fit is refused by name instead of
