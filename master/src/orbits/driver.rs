@@ -276,9 +276,12 @@ pub fn find_orbits(
         ));
     }
     std::fs::create_dir_all(&req.out_dir).map_err(|e| format!("{}: {e}", req.out_dir.display()))?;
-    let (linear, linear_note) = linear_threshold(&req.settings);
+    let (linear, whirl_hz, linear_note) = linear_threshold_and_whirl(&req.settings);
     if let Some(note) = &linear_note {
         progress(&format!("linear threshold: {note}"));
+    }
+    if let Some(f) = whirl_hz {
+        check_settle_holds_whirl(req.settle_s, f)?;
     }
     let opts = cosim_shooting_options();
     let mut report = OrbitsReport {
@@ -475,6 +478,32 @@ fn add_branch(report: &mut OrbitsReport, branch: &Branch) {
     }
 }
 
+/// The share of `--settle` at its end whose samples are classified and shot from.
+const SAMPLE_WINDOW_FRACTION: f64 = 0.1;
+/// Whirl periods the sample window must hold at least.
+const MIN_WINDOW_PERIODS: f64 = 5.0;
+
+/// Refuses a `--settle` whose sample window cannot hold `MIN_WINDOW_PERIODS` periods of the whirl
+/// at `whirl_hz` (the one that turns unstable at the linear threshold, the slowest above it
+/// along a run-up's whirl-speed ratio): with fewer, the motion's class and period come from a
+/// fraction of an orbit.
+pub fn check_settle_holds_whirl(settle_s: f64, whirl_hz: f64) -> Result<(), String> {
+    let needed_s = MIN_WINDOW_PERIODS / (SAMPLE_WINDOW_FRACTION * whirl_hz);
+    if whirl_hz > 0.0 && settle_s < needed_s {
+        return Err(format!(
+            "--settle {} s is too short: its last tenth ({} ms), where the motion is classified \
+             and its orbit shot from, must hold {MIN_WINDOW_PERIODS} periods of the whirl the \
+             linear analysis finds at its threshold ({whirl_hz:.1} Hz, {:.1} ms each); give \
+             --settle {:.2} s or more",
+            bearing::num::Num(settle_s),
+            bearing::num::Num(SAMPLE_WINDOW_FRACTION * settle_s * 1e3),
+            1e3 / whirl_hz,
+            (needed_s * 100.0).ceil() / 100.0,
+        ));
+    }
+    Ok(())
+}
+
 /// The settled motion at the flow's speed, and the orbit shot from it when it is periodic.
 #[allow(clippy::type_complexity)]
 fn settle_and_shoot(
@@ -484,7 +513,7 @@ fn settle_and_shoot(
     full_state: bool,
 ) -> Result<(SettledRecord, Option<(PeriodicOrbit, Vec<(String, f64)>)>), String> {
     let speed = flow.speed_hz();
-    let window = 0.1 * settle_s;
+    let window = SAMPLE_WINDOW_FRACTION * settle_s;
     let n = ((window / 20e-6).round() as usize).max(50);
     let simulated = flow
         .settle(settle_s - window)
@@ -599,6 +628,13 @@ fn settle_and_shoot(
 /// (C = 30 um, c = 1000 N/mm: "static equilibrium not found in 40 Newton steps at 10.0 Hz"),
 /// which once left the threshold silently empty.
 pub fn linear_threshold(s: &RunupSettings) -> (Option<f64>, Option<String>) {
+    let (threshold, _, note) = linear_threshold_and_whirl(s);
+    (threshold, note)
+}
+
+/// `linear_threshold` and the frequency of the whirl that turns unstable there [Hz] (none where
+/// there is no threshold inside the speed range).
+pub fn linear_threshold_and_whirl(s: &RunupSettings) -> (Option<f64>, Option<f64>, Option<String>) {
     let top = top_speed_hz(s);
     let mut grid: Vec<f64> = (2..)
         .map(|k| 50.0 * k as f64)
@@ -610,21 +646,23 @@ pub fn linear_threshold(s: &RunupSettings) -> (Option<f64>, Option<String>) {
         // what a class can use (a rotor unstable at 100 Hz is unstable at low speed).
         Ok(r) if r.unstable_at_first_speed => (
             Some(grid[0]),
+            None,
             Some(format!(
                 "unstable already at {} Hz, the first speed analysed: the threshold lies below it",
                 grid[0]
             )),
         ),
         Ok(r) => match r.threshold {
-            Some(t) => (Some(t.speed_hz), None),
+            Some(t) => (Some(t.speed_hz), Some(t.mode.freq_hz), None),
             None => (
+                None,
                 None,
                 Some(format!(
                     "the equilibrium stays stable from 100 to {top} Hz (linear analysis)"
                 )),
             ),
         },
-        Err(e) => (None, Some(format!("the linear analysis failed: {e}"))),
+        Err(e) => (None, None, Some(format!("the linear analysis failed: {e}"))),
     }
 }
 

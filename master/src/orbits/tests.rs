@@ -346,3 +346,20 @@ fn flows_never_take_rounding_as_a_step() {
     assert_eq!(grid_step(h + 1e-13, h), Some(h + 1e-13));
     assert_eq!(grid_step(2.5 * h, h), Some(h));
 }
+
+/// `--settle` must leave five periods of the threshold's whirl in its last tenth: at 190 Hz
+/// that is 0.263 s, asked for as 0.27 s.
+#[test]
+fn a_settle_too_short_for_five_whirl_periods_is_refused() {
+    use super::driver::check_settle_holds_whirl;
+    assert!(check_settle_holds_whirl(1.0, 190.0).is_ok());
+    assert!(check_settle_holds_whirl(50.0 / 190.0 * (1.0 + 1e-12), 190.0).is_ok());
+    let e = check_settle_holds_whirl(0.1, 190.0).unwrap_err();
+    assert!(
+        e.contains("--settle 0.1 s is too short")
+            && e.contains("(10 ms)")
+            && e.contains("190.0 Hz, 5.3 ms each")
+            && e.contains("--settle 0.27 s or more"),
+        "{e}"
+    );
+}
