@@ -186,6 +186,15 @@ impl Bore {
                 return bad(name, v, what);
             }
         }
+        // An orientation: one turn either way. cos and sin of 1e300 (taken until 2026-12-06)
+        // keep none of the angle's digits.
+        if self.alpha_rad.abs() > 2.0 * PI {
+            return bad(
+                "alpha",
+                self.alpha_rad,
+                "must lie between -2 pi and 2 pi rad (paper: pi - phi_t)",
+            );
+        }
         if self.c_m > 0.1 * self.r_m {
             return bad(
                 "C",
@@ -443,6 +452,20 @@ mod tests {
                     ..Bore::plain()
                 },
                 "dH",
+            ),
+            (
+                Bore {
+                    alpha_rad: 1e300,
+                    ..Bore::paper()
+                },
+                "alpha",
+            ),
+            (
+                Bore {
+                    alpha_rad: -7.0,
+                    ..Bore::paper()
+                },
+                "alpha",
             ),
         ];
         for (bore, name) in cases {

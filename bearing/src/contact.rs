@@ -66,9 +66,21 @@ impl ContactLaw {
         if self.c_con_n_per_m3 < 0.0 {
             return bad("c_con", self.c_con_n_per_m3, "must be >= 0");
         }
+        // 1e4 times the paper's penalty: stiffer is no closer to a rigid contact the models can
+        // integrate (1e300 was taken and left the rotor's steps to fail on the rings).
+        if self.c_con_n_per_m3 > MAX_C_CON_N_PER_M3 {
+            return bad(
+                "c_con",
+                self.c_con_n_per_m3,
+                "must be at most 1e20 N/m3 (paper: 1e16 N/m3)",
+            );
+        }
         Ok(())
     }
 }
+
+/// Stiffest contact penalty taken [N/m^3]: 1e4 times the paper's.
+pub const MAX_C_CON_N_PER_M3: f64 = 1e20;
 
 impl Default for ContactLaw {
     fn default() -> Self {
@@ -354,6 +366,32 @@ fn crossing(
 mod tests {
     use super::*;
     use crate::bore::min_gap_m;
+
+    /// The law's checks name the parameter; the paper's law and the stiffest one taken pass.
+    #[test]
+    fn the_contact_law_refuses_values_no_contact_can_mean() {
+        let law = |h_con_rel, c_con_n_per_m3| ContactLaw {
+            h_con_rel,
+            c_con_n_per_m3,
+        };
+        assert!(ContactLaw::paper().validate().is_ok());
+        assert!(law(0.04, MAX_C_CON_N_PER_M3).validate().is_ok());
+        assert!(law(0.04, 0.0).validate().is_ok());
+        for (l, name) in [
+            (law(0.04, 1e300), "c_con"),
+            (law(0.04, -1.0), "c_con"),
+            (law(0.04, f64::NAN), "c_con"),
+            (law(1.0, 1e16), "h_con_rel"),
+        ] {
+            let e = l.validate().unwrap_err();
+            assert_eq!(e.name, name, "{l:?}");
+        }
+        assert!(law(0.04, 1e300)
+            .validate()
+            .unwrap_err()
+            .reason
+            .contains("1e20 N/m3"));
+    }
 
     #[test]
     fn shortcut_agrees_with_the_full_evaluation_inside_and_beyond_the_bound() {

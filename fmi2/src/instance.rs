@@ -323,6 +323,7 @@ impl<M: Model> Instance<M> {
         if !start.is_finite() {
             return err(format!("startTime {start} is not finite"));
         }
+        M::check_start_time(start).or_else(err)?;
         if let Some(stop) = stop {
             if !(stop.is_finite() && stop >= start) {
                 return err(format!(

@@ -166,6 +166,14 @@ pub trait Model: Clone + Send + Sized + 'static {
     /// at the start time.
     fn new(store: &Store, start_time: f64, log: &mut dyn Log) -> Result<Self, String>;
 
+    /// Refuses a start time the model cannot take at the call that gives it (fmi2SetupExperiment,
+    /// fmi3EnterInitializationMode) instead of when initialization ends, which is too late for a
+    /// master to tell which of its calls was wrong. The layer has checked that it is finite; the
+    /// default takes any.
+    fn check_start_time(_start_time_s: f64) -> Result<(), String> {
+        Ok(())
+    }
+
     /// Advances from `t` to `t + h` with inputs following `inputs`. Never panics on bad data:
     /// returns `Discard` or `Error` with a reason.
     fn do_step(

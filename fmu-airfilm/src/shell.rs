@@ -227,7 +227,7 @@ impl Model for AirFilmFmu {
 
     fn new(store: &Store, start_time: f64, _log: &mut dyn Log) -> Result<Self, String> {
         let params = params_from(store);
-        params.validate().map_err(|e| e.to_string())?;
+        params.validate().map_err(|e| in_units(e.to_string()))?;
         let mut film = AirFilm::new(params.clone()).map_err(|e| e.to_string())?;
         let journal = JournalState {
             dx_m: store.real(vr::DX),
@@ -390,6 +390,14 @@ impl Model for AirFilmFmu {
 
 #[cfg(feature = "fmu")]
 fmi2::export_fmu!(AirFilmFmu);
+
+/// A refusal of a parameter with its value in the units this FMU declares for it ("C = -2.5e-5 m
+/// (-25 um)"), as the libraries give it in bare SI ("C = -0.000025").
+fn in_units(error: String) -> String {
+    fmi2::units::parameter_error_with_units(&<AirFilmFmu as Model>::info(), error, &|x| {
+        bearing::num::Num(x).to_string()
+    })
+}
 
 #[cfg(test)]
 mod tests {

@@ -631,14 +631,21 @@ impl Model for RotorFmu {
         }
     }
 
-    fn new(store: &Store, start_time: f64, _log: &mut dyn Log) -> Result<Self, String> {
-        if start_time != 0.0 {
+    /// The speed profile and the ring rest positions are defined from t = 0.
+    fn check_start_time(start_time_s: f64) -> Result<(), String> {
+        if start_time_s != 0.0 {
             return Err(format!(
-                "the run-up profile starts at t = 0; startTime {start_time} s is not supported"
+                "the run-up profile starts at t = 0; startTime {} s is not supported",
+                bearing::num::Num(start_time_s)
             ));
         }
+        Ok(())
+    }
+
+    fn new(store: &Store, start_time: f64, _log: &mut dyn Log) -> Result<Self, String> {
+        Self::check_start_time(start_time)?;
         let params = params_from(store);
-        params.validate().map_err(|e| e.to_string())?;
+        params.validate().map_err(|e| in_units(e.to_string()))?;
         Ok(RotorFmu {
             rotor: Rotor::new(params).map_err(|e| e.to_string())?,
         })
@@ -748,3 +755,11 @@ impl Model for RotorFmu {
 
 #[cfg(feature = "fmu")]
 fmi2::export_fmu!(RotorFmu);
+
+/// A refusal of a parameter with its value in the units this FMU declares for it ("C = -2.5e-5 m
+/// (-25 um)"), as the libraries give it in bare SI ("C = -0.000025").
+fn in_units(error: String) -> String {
+    fmi2::units::parameter_error_with_units(&<RotorFmu as Model>::info(), error, &|x| {
+        bearing::num::Num(x).to_string()
+    })
+}

@@ -193,15 +193,7 @@ fn lookup(key: &str) -> Result<(Target, fmi2::Variable), String> {
 /// A value of `var` in its SI unit and, where the variable declares one, its display unit:
 /// "-5000 N/m (-5 N/mm)", "2.5e-5 m (25 um)"; the bare number for a variable without a unit.
 pub fn quantity_text(var: &fmi2::Variable, si: f64) -> String {
-    let Some(unit) = var.unit else {
-        return fmt_si(si);
-    };
-    let display = var.display_unit.and_then(|d| {
-        let def = fmi2::units::unit(unit)?;
-        let (_, factor, offset) = def.display_units.iter().find(|u| u.0 == d)?;
-        Some(format!(" ({} {d})", fmt_si(si * factor + offset)))
-    });
-    format!("{} {unit}{}", fmt_si(si), display.unwrap_or_default())
+    fmi2::units::quantity_text(var, si, &fmt_si)
 }
 
 /// Seven significant digits, without the rounding noise of a unit conversion (25, not
@@ -221,29 +213,7 @@ pub fn with_units(model: &str, error: String) -> String {
     } else {
         AirFilmFmu::info()
     };
-    let Some(at) = error.find("parameter ").map(|i| i + "parameter ".len()) else {
-        return error;
-    };
-    let rest = &error[at..];
-    let Some((name, tail)) = rest.split_once(" = ") else {
-        return error;
-    };
-    let (value_text, reason) = tail.split_once(": ").unwrap_or((tail, ""));
-    let (Ok(value), Some(var)) = (
-        value_text.parse::<f64>(),
-        info.variables.iter().find(|v| v.name == name),
-    ) else {
-        return error;
-    };
-    if var.var_type != VarType::Real || !value.is_finite() {
-        return error;
-    }
-    let sep = if reason.is_empty() { "" } else { ": " };
-    format!(
-        "{}{name} = {}{sep}{reason}",
-        &error[..at],
-        quantity_text(var, value)
-    )
+    fmi2::units::parameter_error_with_units(&info, error, &fmt_si)
 }
 
 /// Checks that `key` names a parameter of one of the run-up's FMUs.

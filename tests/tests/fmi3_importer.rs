@@ -177,3 +177,21 @@ fn a_serialized_state_continues_bit_for_bit_in_another_instance() {
     // A derivative for an input whose value was never set is refused, not started from 0.
     assert!(b.set_input_derivatives(&[999], &[1], &[1.0]).is_err());
 }
+
+/// The rotor twin refuses a start time other than 0 in fmi3EnterInitializationMode, which
+/// carries it in FMI 3.0 (until 2026-12-06 only in fmi3ExitInitializationMode), naming it.
+#[test]
+fn the_rotor_twin_refuses_a_late_start_where_it_is_given() {
+    let fmu = load3("rotor");
+    let book = LogBook::default();
+    // Logging on: an FMI 3.0 instance logs nothing without it.
+    let s = fmu.instantiate("late", true, book.handler()).unwrap();
+    s.setup_experiment(None, 0.25, None).unwrap();
+    assert!(s.enter_initialization_mode().is_err());
+    assert!(
+        book.contains("fmi3EnterInitializationMode")
+            && book.contains("startTime 0.25 s is not supported"),
+        "{:?}",
+        book.0.lock().unwrap()
+    );
+}

@@ -182,7 +182,12 @@ fn exit_init_fails(set: impl FnOnce(&Slave), reason: &str) {
 #[test]
 fn non_physical_parameters_are_refused_with_a_reason() {
     exit_init_fails(|s| s.set_real(&[vr::C], &[0.0]).unwrap(), "C");
-    exit_init_fails(|s| s.set_real(&[vr::C], &[-1e-6]).unwrap(), "C");
+    // In the FMU's units, as a user of the FMU alone reads them (until 2026-12-06 bare SI:
+    // "C = -0.000001: must be > 0").
+    exit_init_fails(
+        |s| s.set_real(&[vr::C], &[-1e-6]).unwrap(),
+        "parameter C = -1e-6 m (-1 um): must be > 0",
+    );
     exit_init_fails(|s| s.set_real(&[vr::PHI_T], &[2.5]).unwrap(), "phi_t");
     // Below the declared minimum (4 per lobe, 2 across): refused already by fmi2SetInteger, so a
     // master that trusts the modelDescription's range never reaches a failing initialization.
@@ -211,10 +216,19 @@ fn non_physical_parameters_are_refused_with_a_reason() {
         },
         "mesh n_elem_phi x n_elem_z = 2000 x 500 per lobe needs ~",
     );
-    exit_init_fails(|s| s.set_real(&[vr::R], &[1e300]).unwrap(), "r = 1e300:");
+    exit_init_fails(|s| s.set_real(&[vr::R], &[1e300]).unwrap(), "r = 1e300 m");
     exit_init_fails(
         |s| s.set_real(&[vr::H_MAX], &[-1.0]).unwrap(),
-        "h_max = -1: largest sub-step must be >= 1e-12 s",
+        "h_max = -1 s (-1000 ms): largest sub-step must be >= 1e-12 s",
+    );
+    // An orientation beyond a turn and a penalty beyond any contact (before: taken).
+    exit_init_fails(
+        |s| s.set_real(&[vr::ALPHA], &[1e300]).unwrap(),
+        "alpha = 1e300 rad",
+    );
+    exit_init_fails(
+        |s| s.set_real(&[vr::C_CON], &[1e300]).unwrap(),
+        "c_con = 1e300 N/m3 (1e291 N/mm3): must be at most 1e20 N/m3",
     );
     // Absurd magnitudes (before: accepted; r = 1e300 m made a discarded step's forces inf).
     exit_init_fails(|s| s.set_real(&[vr::C], &[1e300]).unwrap(), "C");

@@ -88,6 +88,8 @@ fn bad_parameters_and_inputs_are_refused_with_a_reason() {
         (vr::M, -0.1, "m"),
         (vr::J_P, 0.0, "J"),
         (vr::C_C, -5.0, "c"),
+        // In the FMU's units (until 2026-12-06 bare SI: "c_C = -5000: must be >= 0").
+        (vr::C_C, -5000.0, "c_C = -5000 N/m (-5 N/mm): must be >= 0"),
         (vr::T_RAMP, 0.0, "t_ramp"),
     ] {
         let book = LogBook::default();
@@ -110,4 +112,32 @@ fn bad_parameters_and_inputs_are_refused_with_a_reason() {
     let s = initialized(&fmu, "rotor", &book, |_| {});
     assert!(s.set_real(&[vr::F_C_X], &[f64::NAN]).is_err());
     assert!(book.contains("not finite"));
+}
+
+/// The rotor starts at t = 0 only. Another start time is refused at the call that gives it,
+/// fmi2SetupExperiment (until 2026-12-06 only when initialization ended), naming it; the
+/// instance then still takes a start at 0 and runs.
+#[test]
+fn a_start_time_other_than_zero_is_refused_where_it_is_given() {
+    let fmu = load("rotor");
+    let book = LogBook::default();
+    let s = fmu.instantiate("late", false, book.handler()).unwrap();
+    for start in [1.0, -0.5] {
+        assert_eq!(
+            s.setup_experiment(None, start, None).unwrap_err().status,
+            Status::Error,
+            "startTime {start}"
+        );
+    }
+    assert!(
+        book.contains("fmi2SetupExperiment")
+            && book.contains("startTime 1 s is not supported")
+            && book.contains("starts at t = 0"),
+        "{:?}",
+        book.0.lock().unwrap()
+    );
+    s.setup_experiment(None, 0.0, None).unwrap();
+    s.enter_initialization_mode().unwrap();
+    s.exit_initialization_mode().unwrap();
+    s.do_step(0.0, 1e-5).unwrap();
 }
