@@ -113,9 +113,10 @@ pub fn unit(name: &str) -> Option<&'static UnitDef> {
 
 /// `si`, a value of `var` in its SI unit, with that unit and, where the variable declares one,
 /// its display unit: "-5000 N/m (-5 N/mm)", "2.5e-5 m (25 um)"; the bare number where the
-/// variable has no unit. `number` prints a number (the model's own short form).
+/// variable has no unit or the dimensionless "1" (not "rtol = 2 1"). `number` prints a number
+/// (the model's own short form).
 pub fn quantity_text(var: &Variable, si: f64, number: &dyn Fn(f64) -> String) -> String {
-    let Some(unit_name) = var.unit else {
+    let Some(unit_name) = var.unit.filter(|u| *u != "1") else {
         return number(si);
     };
     let display = var.display_unit.and_then(|d| {

@@ -397,6 +397,12 @@ mod tests {
                 "invalid air-film parameter atol = -1: must be > 0 Pa",
                 "invalid air-film parameter atol = -1 Pa: must be > 0 Pa",
             ),
+            // Dimensionless ("1"): the bare number (was "rtol = 2 1").
+            (
+                "film_C",
+                "film_C: invalid air-film parameter rtol = 2: must lie in (0, 1)",
+                "film_C: invalid air-film parameter rtol = 2: must lie in (0, 1)",
+            ),
             (
                 "film",
                 "invalid air-film parameter h_init_s = -1: first sub-step must be > 0 s",

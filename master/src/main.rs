@@ -29,6 +29,7 @@ enum Command {
         common: Common,
     },
     /// Any system described by a TOML system file.
+    #[command(allow_negative_numbers = true)]
     Run {
         /// The system file (TOML; the format is in docs/fmu-guide.md and the cosim crate's
         /// `system` module; a run folder's system.toml is one).
@@ -107,6 +108,7 @@ enum Command {
     },
     /// How a sweep's classes depend on the classifier's bounds: every completed run classified
     /// again with each bound moved down and up (sensitivity.csv, and a summary).
+    #[command(allow_negative_numbers = true)]
     SweepSensitivity {
         /// A sweep's output folder.
         dir: PathBuf,
@@ -117,6 +119,7 @@ enum Command {
     /// Every cell of a study classified from its whirl orbits at constant speed (just past the
     /// linear threshold and at the top speed) instead of a run-up; resumable
     /// (orbit_classes.csv, orbit_classes.json, one folder per cell).
+    #[command(allow_negative_numbers = true)]
     SweepOrbits {
         /// Study file (TOML), as for `airring sweep`.
         study: PathBuf,
@@ -141,6 +144,7 @@ enum Command {
         fmu_dir: Option<PathBuf>,
     },
     /// Modal analysis of the rotor with linear film springs (paper Section 2.3).
+    #[command(allow_negative_numbers = true)]
     Modal {
         /// Rotor speed [Hz] (several: Campbell data).
         #[arg(long, num_args = 1.., default_values_t = vec![1000.0])]
@@ -162,9 +166,11 @@ enum Command {
         out: Option<PathBuf>,
     },
     /// Linear stability: static equilibrium, Campbell table with damping, threshold speed.
+    #[command(allow_negative_numbers = true)]
     Stability(master::stability::cli::StabilityArgs),
     /// Classify a finished run folder again from its timeseries.csv (prints JSON: class, onset,
     /// first bearing, maximum eccentricities, criteria).
+    #[command(allow_negative_numbers = true)]
     Classify {
         /// A run-up's folder (its timeseries.csv and system.toml).
         dir: PathBuf,
@@ -176,9 +182,11 @@ enum Command {
     },
     /// The air-film library alone along a journal orbit from a CSV file, fed as FMPy's simulate_fmu
     /// feeds airfilm.fmu (cross-check; see docs/fmu-guide.md).
+    #[command(allow_negative_numbers = true)]
     Orbit(master::orbit::OrbitArgs),
     /// Periodic whirl orbits at constant speeds (shooting on the co-simulation), their Floquet
     /// multipliers, and the branch continued in speed to its Hopf point (orbits.json).
+    #[command(allow_negative_numbers = true)]
     Orbits {
         #[command(flatten)]
         args: master::orbits::cli::OrbitsArgs,
