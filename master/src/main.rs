@@ -310,6 +310,12 @@ fn finish(report: master::run::RunReport, out: &Path) -> ExitCode {
 }
 
 fn classify_command(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, String> {
+    if !dir.is_dir() {
+        return Err(format!(
+            "{}: no such folder (classify takes a run-up's folder, e.g. runs/path1)",
+            dir.display()
+        ));
+    }
     // Each bearing's clearance: the flag, else the run folder's own system file (never a default).
     let c_m = match clearance_um {
         Some(c) => {

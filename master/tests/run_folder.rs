@@ -158,6 +158,10 @@ fn a_run_of_a_few_output_rows_is_too_short_not_unclassified() {
     let summary: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
     assert_eq!(summary["classification"], "too_short", "{summary}");
+    // A folder that does not exist is named as such (was: "/no/such/run/system.toml: No such
+    // file or directory").
+    let (ok, err) = airring(&["classify", "/no/such/run"], &[]);
+    assert!(!ok && err.contains("/no/such/run: no such folder"), "{err}");
     // A clearance no bore can have is refused in its unit.
     let (ok, err) = airring(
         &["classify", dir.to_str().unwrap(), "--clearance", "1e-9"],
