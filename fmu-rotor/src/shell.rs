@@ -756,8 +756,8 @@ impl Model for RotorFmu {
 #[cfg(feature = "fmu")]
 fmi2::export_fmu!(RotorFmu);
 
-/// A refusal of a parameter with its value in the units this FMU declares for it ("C = -2.5e-5 m
-/// (-25 um)"), as the libraries give it in bare SI ("C = -0.000025").
+/// A refusal of a parameter with its value in the units this FMU declares for it ("c_C = -5000
+/// N/m (-5 N/mm)"), as the libraries give it in bare SI ("c_C = -5000").
 fn in_units(error: String) -> String {
     fmi2::units::parameter_error_with_units(&<RotorFmu as Model>::info(), error, &|x| {
         bearing::num::Num(x).to_string()
