@@ -676,7 +676,7 @@ fn bore_differences(c: &fmu_airfilm::BearingParams, t: &fmu_airfilm::BearingPara
     differ
 }
 
-/// The films' mesh as their FMUs get it, "film mesh 20 x 3 per lobe", why where the run-up chose
+/// The films' mesh as their FMUs get it, "film mesh 16 x 3 per lobe", why where the run-up chose
 /// it, "(for the largest bearing number 8.8; the paper's is 20 x 6)", and the films' time
 /// integration tolerance as their FMUs get it too, ", film tolerance 1e-3 / 100 Pa".
 pub fn describe_film_mesh(s: &RunupSettings) -> Result<String, String> {
@@ -834,23 +834,30 @@ pub const DEFAULT_MACRO_STEP_US: f64 = 50.0;
 pub const DEFAULT_CALM_MACRO_STEP_US: f64 = 100.0;
 /// The film mesh of a run-up without `--mesh` [elements along each lobe, across the half width],
 /// for the largest bearing number `lambda` of the run ([`RunupSettings::largest_bearing_number`]):
-/// the paper's 20 along each lobe, and across the half width 3 up to lambda = 20 (C >= 13.3 um at
-/// 2000 Hz), 4 up to 40 (C >= 9.4 um), the paper's 6 above (and where lambda is not a number).
-/// The pressure across the width is nearly a parabola, which one biquadratic element holds,
-/// except in an edge layer that narrows as lambda grows. Since session 28 (20 x 6 before; docs/
-/// convergence.md, "Film mesh across the width"), with [`DEFAULT_FILM_TOLERANCE`]: path 1 in
-/// 0.60 and the Section 4 study in 0.56 of the time, the same class in all 42 cells, onsets
-/// within 0.17 % and eccentricities within 0.91 % of the old defaults. C10/dH20/c1500/d50
-/// (lambda 35) is 0.71 % off a reference at 10 us on a 40 x 12 mesh at 20 x 4, 1.03 % at 20 x 3.
+/// 16 x 3 up to lambda = 20 (C >= 13.3 um at 2000 Hz), 20 x 4 up to 40 (C >= 9.4 um), the
+/// paper's 20 x 6 above (and where lambda is not a number).
+///
+/// Across the half width: the pressure is nearly a parabola, which one biquadratic element
+/// holds, except in an edge layer that narrows as lambda grows (session 28, 20 x 6 before; docs/
+/// convergence.md, "Film mesh across the width"): with [`DEFAULT_FILM_TOLERANCE`] path 1 in 0.60
+/// and the Section 4 study in 0.56 of the time, the same class in all 42 cells, onsets within
+/// 0.17 % and eccentricities within 0.91 % of the paper mesh. C10/dH20/c1500/d50 (lambda 35) is
+/// 0.71 % off a reference at 10 us on a 40 x 12 mesh at 20 x 4, 1.03 % at 20 x 3.
+///
+/// Along the lobe, 16 elements instead of the paper's 20 where lambda <= 20 (session 31; docs/
+/// convergence.md, "Film mesh along the lobe"): against 20 x 3 the same class in all 42 Section
+/// 4 cells, onsets within 0.22 %, eccentricities within 1.6 %, and in the two cells whose slowly
+/// growing whirls the films' errors can seed early, nine disturbance seeds each within 0.052 %;
+/// path 1 0.032 % off and its eccentricities within 1 % of a 40 x 12 mesh; path 1 in ~0.8 of the
+/// time.
 pub fn film_mesh_for(lambda: f64) -> (u32, u32) {
-    let n_z = if lambda <= 20.0 {
-        3
+    if lambda <= 20.0 {
+        (16, 3)
     } else if lambda <= 40.0 {
-        4
+        (20, 4)
     } else {
-        6
-    };
-    (20, n_z)
+        (20, 6)
+    }
 }
 
 /// A number as a message shows it: plainly where that is short, else with an exponent ("1e-300"

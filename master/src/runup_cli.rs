@@ -265,16 +265,16 @@ mod tests {
     /// --mesh, or a film's n_elem_phi / n_elem_z through --set, is the user's mesh and stays.
     #[test]
     fn run_up_chooses_the_film_mesh_by_the_largest_bearing_number() {
-        assert_eq!(crate::runup::film_mesh_for(8.8), (20, 3));
-        assert_eq!(crate::runup::film_mesh_for(20.0), (20, 3));
+        assert_eq!(crate::runup::film_mesh_for(8.8), (16, 3));
+        assert_eq!(crate::runup::film_mesh_for(20.0), (16, 3));
         assert_eq!(crate::runup::film_mesh_for(20.01), (20, 4));
         assert_eq!(crate::runup::film_mesh_for(40.0), (20, 4));
         assert_eq!(crate::runup::film_mesh_for(40.01), (20, 6));
         assert_eq!(crate::runup::film_mesh_for(f64::NAN), (20, 6));
 
         let cases: [(&[&str], (u32, u32), f64); 7] = [
-            (&[], (20, 3), lambda(20.0, 2000.0)),
-            (&["--stop", "0.1"], (20, 3), lambda(20.0, 2000.0)),
+            (&[], (16, 3), lambda(20.0, 2000.0)),
+            (&["--stop", "0.1"], (16, 3), lambda(20.0, 2000.0)),
             (&["--clearance", "10"], (20, 4), lambda(10.0, 2000.0)),
             (&["--clearance", "5"], (20, 6), lambda(5.0, 2000.0)),
             // The smaller clearance of the two films decides (C 20 / 10 um).
@@ -308,7 +308,7 @@ mod tests {
             for f in s.film_params().unwrap() {
                 assert_eq!(
                     (f.n_elem_phi, f.n_elem_z),
-                    (20, mesh.1 as usize),
+                    (mesh.0 as usize, mesh.1 as usize),
                     "{flags:?}"
                 );
             }
@@ -332,7 +332,7 @@ mod tests {
     fn the_first_line_states_the_films_mesh_and_tolerance() {
         let line = crate::runup::describe_film_mesh(&settings_of(&[])).unwrap();
         assert!(
-            line.starts_with("film mesh 20 x 3 per lobe (for the largest bearing number 8.8")
+            line.starts_with("film mesh 16 x 3 per lobe (for the largest bearing number 8.8")
                 && line.ends_with(", film tolerance 1e-3 / 100 Pa"),
             "{line}"
         );
