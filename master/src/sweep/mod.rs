@@ -116,11 +116,26 @@ pub(super) fn read_json(p: &Path) -> Option<serde_json::Value> {
 /// again instead of being mixed into the map with different numerics.
 fn defaults_of(args: &BTreeMap<String, String>) -> serde_json::Value {
     let preset = args.get("preset").map_or("path1", String::as_str);
-    crate::runup::RunupSettings::preset(preset)
+    let mut defaults = crate::runup::RunupSettings::preset(preset)
         .ok()
         .and_then(|s| serde_json::to_value(s).ok())
-        .unwrap_or_default()
+        .unwrap_or_default();
+    // The film mesh a run-up chooses by its bearing number is a default too, but no field of the
+    // preset's settings: recorded as the rule's choice across its range, so that a run made
+    // with another rule (20 x 3 before session 31, 20 x 6 before session 28) runs again.
+    if let Some(map) = defaults.as_object_mut() {
+        let rule: Vec<(u32, u32)> = FILM_MESH_RULE_SAMPLES
+            .iter()
+            .map(|&lambda| crate::runup::film_mesh_for(lambda))
+            .collect();
+        map.insert("film_mesh_rule".into(), serde_json::json!(rule));
+    }
+    defaults
 }
+
+/// Bearing numbers at which a sweep records the run-up's film-mesh rule (`defaults_of`): both
+/// sides of each of its thresholds (20, 40) and the large clearances' 5.
+const FILM_MESH_RULE_SAMPLES: [f64; 5] = [5.0, 20.0, 30.0, 40.0, 60.0];
 
 /// True if the run folder's sweep_run.json has these flags and these defaults (folders from
 /// before the defaults were recorded count as the same).
