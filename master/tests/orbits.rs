@@ -333,8 +333,7 @@ fn sweep_orbits_classes_cells_compares_them_and_resumes() {
     // classified here, the other cell's folder is made to look done with a stable answer.
     let done = out.join("cells/dH30_d50");
     std::fs::create_dir_all(&done).unwrap();
-    std::fs::write(
-        done.join("cell.json"),
+    let mut stored: serde_json::Value = serde_json::from_str(
         r#"{"run": "dH30_d50", "args": {"c": "1000", "clearance": "15", "d": "50", "dh": "30", "preset": "path1"},
             "settle_s": 1.0, "above": 0.1,
             "linear_threshold_hz": null, "linear_note": "test", "top_speed_hz": 2000.0,
@@ -342,6 +341,10 @@ fn sweep_orbits_classes_cells_compares_them_and_resumes() {
             "why": "", "wall_time_s": 0.0}"#,
     )
     .unwrap();
+    let args: std::collections::BTreeMap<String, String> =
+        serde_json::from_value(stored["args"].clone()).unwrap();
+    stored["defaults"] = master::sweep::defaults_of(&args);
+    std::fs::write(done.join("cell.json"), stored.to_string()).unwrap();
     let (ok, err) = airring(&["sweep-orbits", s, "--out", o, c, t, "--jobs", "2"]);
     assert!(ok, "{err}");
     let csv = std::fs::read_to_string(out.join("orbit_classes.csv")).unwrap();
@@ -378,6 +381,28 @@ fn sweep_orbits_classes_cells_compares_them_and_resumes() {
         std::fs::read_to_string(out.join("cells/dH0_d50/cell.json")).unwrap(),
         cell
     );
+    // A cell stored with other run-up defaults (an older airring's: here another film-mesh
+    // rule) is computed again, not mixed into the map.
+    let cell_path = out.join("cells/dH0_d50/cell.json");
+    let mut stale: serde_json::Value = serde_json::from_str(&cell).unwrap();
+    stale["defaults"]["film_mesh_rule"] =
+        serde_json::json!([[20, 3], [20, 3], [20, 4], [20, 4], [20, 6]]);
+    std::fs::write(&cell_path, stale.to_string()).unwrap();
+    let (ok, err) = airring(&["sweep-orbits", s, "--out", o, "--jobs", "1"]);
+    assert!(ok, "{err}");
+    assert!(
+        err.contains(
+            "dH0_d50: stored with other run-up defaults (an older airring): computing it again"
+        ) && err.matches("(done earlier)").count() == 1,
+        "{err}"
+    );
+    let again: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&cell_path).unwrap()).unwrap();
+    assert_eq!(
+        again["defaults"],
+        master::sweep::defaults_of(&args_of(&again))
+    );
+    assert_eq!(again["class"], "unstable_low_speed");
     // A stored cell computed with other settings is not taken for this one: the folder is named.
     let (ok, err) = airring(&[
         "sweep-orbits",
@@ -414,4 +439,9 @@ fn sweep_orbits_classes_cells_compares_them_and_resumes() {
     let (ok, err) = airring(&["sweep-orbits", imbalanced.to_str().unwrap(), "--out", o]);
     assert!(!ok && err.contains("imbalance"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A stored cell's study flags.
+fn args_of(cell: &serde_json::Value) -> std::collections::BTreeMap<String, String> {
+    serde_json::from_value(cell["args"].clone()).unwrap()
 }

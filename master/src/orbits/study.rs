@@ -58,6 +58,10 @@ pub struct CellOrbits {
     pub settle_s: f64,
     #[serde(default)]
     pub above: f64,
+    /// The run-up defaults it was computed with (`sweep::defaults_of`): a stored cell with other
+    /// ones, or none (before 2026-12-06), is computed again rather than mixed into the map.
+    #[serde(default)]
+    pub defaults: Option<serde_json::Value>,
     pub linear_threshold_hz: Option<f64>,
     pub linear_note: Option<String>,
     pub top_speed_hz: f64,
@@ -348,11 +352,20 @@ pub fn sweep_orbits(
                         line(&format!("failed: {e}"));
                         Err(e)
                     }
-                    Some(c) => {
+                    Some(c)
+                        if c.defaults.as_ref()
+                            == Some(&crate::sweep::defaults_of(&study.runs[k].args)) =>
+                    {
                         line(&format!("{} (done earlier)", c.class));
                         Ok(c)
                     }
-                    None => {
+                    stale => {
+                        if stale.is_some() {
+                            line(
+                                "stored with other run-up defaults (an older airring): \
+                                 computing it again",
+                            );
+                        }
                         // A panic in one cell is that cell's failure, not the study's end.
                         let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
                             classify_cell(
@@ -482,6 +495,7 @@ fn classify_cell(
         args: args.clone(),
         settle_s: opts.settle_s,
         above: opts.above,
+        defaults: Some(crate::sweep::defaults_of(args)),
         linear_threshold_hz: threshold,
         linear_note,
         top_speed_hz: top,

@@ -114,7 +114,10 @@ pub(super) fn read_json(p: &Path) -> Option<serde_json::Value> {
 /// (macro step, step control, film tolerances, contact side, disturbance, mesh, ...): recorded in
 /// each run's sweep_run.json, so that a run made with other defaults (an older airring) is run
 /// again instead of being mixed into the map with different numerics.
-fn defaults_of(args: &BTreeMap<String, String>) -> serde_json::Value {
+/// The run-up defaults a run with study flags `args` gets where the study sets nothing (the
+/// preset's settings and the film-mesh rule): recorded with every sweep run and orbit cell, and
+/// a stored one with other defaults (an older airring's) is computed again.
+pub fn defaults_of(args: &BTreeMap<String, String>) -> serde_json::Value {
     let preset = args.get("preset").map_or("path1", String::as_str);
     let mut defaults = crate::runup::RunupSettings::preset(preset)
         .ok()
