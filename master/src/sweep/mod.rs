@@ -111,12 +111,10 @@ pub(super) fn read_json(p: &Path) -> Option<serde_json::Value> {
 }
 
 /// The run-up settings a run gets from its preset and the defaults where the study sets nothing
-/// (macro step, step control, film tolerances, contact side, disturbance, mesh, ...): recorded in
-/// each run's sweep_run.json, so that a run made with other defaults (an older airring) is run
-/// again instead of being mixed into the map with different numerics.
-/// The run-up defaults a run with study flags `args` gets where the study sets nothing (the
-/// preset's settings and the film-mesh rule): recorded with every sweep run and orbit cell, and
-/// a stored one with other defaults (an older airring's) is computed again.
+/// (macro step, step control, film tolerances, contact side, disturbance, mesh, the film-mesh
+/// rule, ...): recorded in each run's sweep_run.json and each orbit cell's cell.json, so that a
+/// run or cell made with other defaults (an older airring) is computed again instead of being
+/// mixed into the map with different numerics.
 pub fn defaults_of(args: &BTreeMap<String, String>) -> serde_json::Value {
     let preset = args.get("preset").map_or("path1", String::as_str);
     let mut defaults = crate::runup::RunupSettings::preset(preset)
@@ -136,8 +134,8 @@ pub fn defaults_of(args: &BTreeMap<String, String>) -> serde_json::Value {
     defaults
 }
 
-/// Bearing numbers at which a sweep records the run-up's film-mesh rule (`defaults_of`): both
-/// sides of each of its thresholds (20, 40) and the large clearances' 5.
+/// Bearing numbers at which a sweep records the run-up's film-mesh rule (`defaults_of`): a point
+/// in each of its three ranges and its two thresholds (20, 40).
 const FILM_MESH_RULE_SAMPLES: [f64; 5] = [5.0, 20.0, 30.0, 40.0, 60.0];
 
 /// True if the run folder's sweep_run.json has these flags and these defaults (folders from
