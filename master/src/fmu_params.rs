@@ -197,10 +197,10 @@ pub fn quantity_text(var: &fmi2::Variable, si: f64) -> String {
 }
 
 /// Seven significant digits, without the rounding noise of a unit conversion (25, not
-/// 24.999999999999996), and with an exponent where the number is long.
+/// 24.999999999999996), and with an exponent where the number is long: the FMUs' own short
+/// numbers (`bearing::num::Num`), so the master and the FMUs' logs print a value alike.
 fn fmt_si(x: f64) -> String {
-    let rounded: f64 = format!("{x:.6e}").parse().unwrap_or(x);
-    crate::runup::fmt_number(rounded)
+    bearing::num::Num(x).to_string()
 }
 
 /// An FMU's refusal of one of its parameters ("rotor: invalid parameter c_C = -5000: must be >=
