@@ -39,10 +39,13 @@ const EXCESS_TO_REPROBE: f64 = 16.0;
 const STALL_SLACK: f64 = 2.0;
 /// Parallel must beat serial by this factor: on a tie, one thread leaves a core to others.
 const PARALLEL_MARGIN: f64 = 0.95;
-/// A parallel probe ends early, after this many steps, once it has cost twice what serial steps
-/// would have: on a busy machine a parallel step can take 10x a serial one, and a whole window of
-/// them would cost more than the choice saves. (4 until 2026-12-05; on a quiet machine the first
-/// two parallel steps, the workers' wake-up included, cost less than two serial steps.)
+/// A parallel probe ends early, after this many steps beyond its first, once those have cost
+/// twice what serial steps would have: on a busy machine a parallel step can take 10x a serial
+/// one, and a whole window of them would cost more than the choice saves. The first step is left
+/// out: it wakes a worker that parked while the group stepped serially (a futex wake-up, 50-150
+/// us). Until 2026-12-06 it counted, and once film steps were cheap (29 us serially on a 10 x 3
+/// graded mesh) no parallel probe survived its first two steps: a run that started serially
+/// stayed serial. (4 steps with the first until 2026-12-05.)
 const PROBE_ABORT_AFTER: u32 = 2;
 
 #[derive(Clone, Copy, Debug)]
@@ -52,7 +55,8 @@ enum Phase {
         mode: Stepping,
         done: u32,
         timed: Duration,
-        /// All steps of the window, warm-up included (for the early end of a losing parallel probe).
+        /// All steps of the window but the first, warm-up included (for the early end of a
+        /// losing parallel probe).
         spent: Duration,
         then: Option<Stepping>,
     },
@@ -155,14 +159,17 @@ impl SteppingChoice {
                 } else {
                     timed
                 };
-                let spent = spent + wall;
+                let spent = if done == 0 { spent } else { spent + wall };
                 let done = done + 1;
+                let after_first = done - 1;
                 let losing = mode == Stepping::Parallel
-                    && done >= PROBE_ABORT_AFTER
-                    && self.means[index(Stepping::Serial)]
-                        .is_some_and(|s| spent.as_secs_f64() * 1e6 > 2.0 * s * f64::from(done));
+                    && after_first >= PROBE_ABORT_AFTER
+                    && self.means[index(Stepping::Serial)].is_some_and(|s| {
+                        spent.as_secs_f64() * 1e6 > 2.0 * s * f64::from(after_first)
+                    });
                 if losing {
-                    self.means[index(mode)] = Some(spent.as_secs_f64() * 1e6 / f64::from(done));
+                    self.means[index(mode)] =
+                        Some(spent.as_secs_f64() * 1e6 / f64::from(after_first));
                     self.decide()
                 } else if done < PROBE_STEPS {
                     Phase::Probe {
@@ -290,6 +297,28 @@ mod tests {
         assert_eq!(s.choice, Some(Stepping::Serial));
         // Each parallel probe ends after a few steps: the losing way costs almost nothing.
         assert!(s.parallel_steps < 20, "{s:?}");
+    }
+
+    /// A parallel probe's first step wakes a parked worker (here 6x a serial step); when the
+    /// steps after it pay, parallel is chosen, also where serial steps are cheap.
+    #[test]
+    fn a_parked_workers_wake_up_does_not_end_a_probe_that_pays() {
+        let mut c = SteppingChoice::new();
+        let mut last = None;
+        for _ in 0..10_000 {
+            let m = c.next();
+            let woke = m == Stepping::Parallel && last != Some(Stepping::Parallel);
+            let us = match m {
+                Stepping::Parallel if woke => 180,
+                Stepping::Parallel => 20,
+                Stepping::Serial => 30,
+            };
+            c.record(Duration::from_micros(us));
+            last = Some(m);
+        }
+        let s = c.stats();
+        assert_eq!(s.choice, Some(Stepping::Parallel), "{s:?}");
+        assert!(s.parallel_steps > 9_000, "{s:?}");
     }
 
     #[test]
