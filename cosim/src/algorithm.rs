@@ -105,6 +105,14 @@ pub struct CoSim {
     _fmus: Vec<Fmu>,
 }
 
+impl CoSim {
+    /// Where an observer may offer per-sample work for the threads that wait on the parallel
+    /// groups' pool (None without one: then the observer does its work itself).
+    pub fn idle_workers(&self) -> Option<crate::parallel::IdleWorkers> {
+        self.pool.as_ref().map(StepPool::idle_workers)
+    }
+}
+
 impl Drop for CoSim {
     /// Joins the worker threads before the FMU instances and libraries are freed (fields drop in
     /// declaration order, and `subs` comes first): a worker may still be inside an instance.

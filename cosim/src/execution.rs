@@ -261,6 +261,7 @@ impl<'a> Execution<'a> {
             resumed_from,
             stop_time_s: self.built.stop_time_s,
             output_interval_s: self.built.output_interval_s,
+            idle_workers: self.built.cosim.idle_workers(),
         };
         for o in observers.iter_mut() {
             o.started(&run_start)?;

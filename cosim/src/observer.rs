@@ -17,6 +17,9 @@ pub struct RunStart<'a> {
     pub stop_time_s: f64,
     /// Simulated time between output samples [s].
     pub output_interval_s: f64,
+    /// Threads that wait on the parallel groups' pool and may do an observer's per-sample work
+    /// in small pieces ([`crate::parallel::IdleWork`]); None when the run has no such pool.
+    pub idle_workers: Option<crate::parallel::IdleWorkers>,
 }
 
 /// A watcher of a run. Errors are strings naming what failed; they end the run as failed.

@@ -14,14 +14,71 @@ use fmi2::importer::CallError;
 use fmi2::Status;
 use std::cell::UnsafeCell;
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::atomic::{AtomicU8, Ordering};
-use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};
+use std::sync::{Arc, Mutex};
 use std::thread::JoinHandle;
 use std::time::{Duration, Instant};
 
 /// What the pool steps: one member of a group over [t, t+h].
 pub trait Step: Send {
     fn step(&mut self, t: f64, h: f64) -> Result<(), CallError>;
+}
+
+/// Work that threads waiting on the pool may do, one small piece at a time: an observer's
+/// per-sample work (a time-series row's text and write) taken off the master's thread. A worker
+/// waits for its next step while the master steps the rotor and records the macro point, and
+/// the master waits for the slower film; in a path-1 run-up that is ~1.6 s of the worker's
+/// 3.5 s. A piece must take microseconds: a step handed over meanwhile waits for it.
+pub trait IdleWork: Send + Sync {
+    /// Does one piece if one is waiting and returns true; false when there is none (or another
+    /// thread is doing one).
+    fn run_one(&self) -> bool;
+}
+
+/// The idle work of one pool, offered by observers (cheap to clone).
+#[derive(Clone, Default)]
+pub struct IdleWorkers {
+    list: Arc<IdleList>,
+}
+
+#[derive(Default)]
+struct IdleList {
+    /// Something was offered (read at every spin: cheaper than the lock).
+    any: AtomicBool,
+    work: Mutex<Vec<Arc<dyn IdleWork>>>,
+}
+
+impl IdleWorkers {
+    /// Lets the pool's waiting threads run `work`'s pieces until the pool ends.
+    pub fn offer(&self, work: Arc<dyn IdleWork>) {
+        let mut list = self.list.work.lock().unwrap_or_else(|p| p.into_inner());
+        list.push(work);
+        self.list.any.store(true, Ordering::Release);
+    }
+
+    /// One piece of any offered work; false when none was done. A piece that panics is
+    /// contained here (the thread goes on waiting for its step) and its work is offered no
+    /// more; the work itself sees the panic (a poisoned lock) on its owner's side.
+    fn run_one(&self) -> bool {
+        if !self.list.any.load(Ordering::Acquire) {
+            return false;
+        }
+        let Ok(mut list) = self.list.work.try_lock() else {
+            return false;
+        };
+        for k in 0..list.len() {
+            match catch_unwind(AssertUnwindSafe(|| list[k].run_one())) {
+                Ok(true) => return true,
+                Ok(false) => {}
+                Err(_) => {
+                    list.remove(k);
+                    self.list.any.store(!list.is_empty(), Ordering::Release);
+                    return true;
+                }
+            }
+        }
+        false
+    }
 }
 
 const IDLE: u8 = 0;
@@ -66,13 +123,15 @@ struct Worker {
 
 pub struct StepPool {
     workers: Vec<Worker>,
+    idle: IdleWorkers,
 }
 
 /// Spins for [`SPIN`] (then parks, for a worker, or yields, for the master) until `state` is one
-/// of `wanted`. Once past the spin, every wake-up parks or yields again at once: until 2026-12-05
-/// a parked worker spun ~1 000 times after each of its 5 ms time-outs, CPU taken from whatever
-/// else runs on a busy machine while the films are stepped one after the other.
-fn wait_for(state: &AtomicU8, wanted: &[u8], park: bool) -> u8 {
+/// of `wanted`, doing pieces of `idle` work while it spins. Once past the spin, every wake-up
+/// parks or yields again at once: until 2026-12-05 a parked worker spun ~1 000 times after each
+/// of its 5 ms time-outs, CPU taken from whatever else runs on a busy machine while the films are
+/// stepped one after the other.
+fn wait_for(state: &AtomicU8, wanted: &[u8], park: bool, idle: &IdleWorkers) -> u8 {
     let start = Instant::now();
     let mut spins = 0u32;
     let mut spinning = true;
@@ -82,6 +141,10 @@ fn wait_for(state: &AtomicU8, wanted: &[u8], park: bool) -> u8 {
             return s;
         }
         if spinning {
+            if idle.run_one() {
+                // A piece took microseconds: the clock is read at the next spin.
+                spins |= 1023;
+            }
             spins = spins.wrapping_add(1);
             // The clock is read every 1 024 spins only.
             spinning = !spins.is_multiple_of(1024) || start.elapsed() < SPIN;
@@ -103,12 +166,13 @@ const PARK_TIMEOUT: Duration = Duration::from_millis(50);
 struct JoinJobs<'a> {
     workers: &'a [Worker],
     n: usize,
+    idle: &'a IdleWorkers,
 }
 
 impl Drop for JoinJobs<'_> {
     fn drop(&mut self) {
         for w in &self.workers[..self.n] {
-            wait_for(&w.slot.state, &[DONE], false);
+            wait_for(&w.slot.state, &[DONE], false, self.idle);
         }
     }
 }
@@ -117,6 +181,7 @@ impl StepPool {
     /// A pool for groups of up to `max_group` members (`max_group - 1` workers; the caller's thread
     /// steps the first member itself).
     pub fn new(max_group: usize) -> StepPool {
+        let idle = IdleWorkers::default();
         let workers = (1..max_group.max(1))
             .map(|k| {
                 let slot = Arc::new(Slot {
@@ -124,10 +189,11 @@ impl StepPool {
                     job: UnsafeCell::new(None),
                 });
                 let s = slot.clone();
+                let idle = idle.clone();
                 let thread = std::thread::Builder::new()
                     .name(format!("cosim-step-{k}"))
                     .spawn(move || loop {
-                        if wait_for(&s.state, &[READY, QUIT], true) == QUIT {
+                        if wait_for(&s.state, &[READY, QUIT], true, &idle) == QUIT {
                             return;
                         }
                         // SAFETY: READY: the master wrote the job and waits for DONE (see Slot).
@@ -145,7 +211,12 @@ impl StepPool {
                 }
             })
             .collect();
-        StepPool { workers }
+        StepPool { workers, idle }
+    }
+
+    /// Where observers offer work for the threads that wait on this pool.
+    pub fn idle_workers(&self) -> IdleWorkers {
+        self.idle.clone()
     }
 
     /// Steps every member over [t, t+h], the first on this thread, the others on the workers.
@@ -166,6 +237,7 @@ impl StepPool {
         let mut join = JoinJobs {
             workers: &self.workers,
             n: 0,
+            idle: &self.idle,
         };
         for (w, m) in self.workers.iter().zip(rest.iter_mut()) {
             let sub: &mut dyn Step = &mut **m;
@@ -320,5 +392,88 @@ mod tests {
         drop(pool);
         drop(m);
         assert_eq!(live.load(Ordering::SeqCst), 0);
+    }
+    /// Work with `n` pieces that counts the pieces done and panics at piece `panic_at`.
+    struct Pieces {
+        left: AtomicUsize,
+        done: AtomicUsize,
+        panic_at: Option<usize>,
+    }
+
+    impl IdleWork for Pieces {
+        fn run_one(&self) -> bool {
+            if self
+                .left
+                .fetch_update(Ordering::AcqRel, Ordering::Acquire, |l| l.checked_sub(1))
+                .is_err()
+            {
+                return false;
+            }
+            let k = self.done.fetch_add(1, Ordering::AcqRel) + 1;
+            if self.panic_at == Some(k) {
+                panic!("idle piece {k} panics");
+            }
+            true
+        }
+    }
+
+    fn pieces(n: usize, panic_at: Option<usize>) -> Arc<Pieces> {
+        Arc::new(Pieces {
+            left: AtomicUsize::new(n),
+            done: AtomicUsize::new(0),
+            panic_at,
+        })
+    }
+
+    /// Offered work is done by the threads that wait on the pool (the worker between its jobs,
+    /// the caller while it waits for the worker), without its owner doing any of it.
+    #[test]
+    fn threads_waiting_on_the_pool_do_the_offered_work() {
+        let live = Arc::new(AtomicUsize::new(0));
+        let pool = StepPool::new(2);
+        let work = pieces(200, None);
+        pool.idle_workers().offer(work.clone());
+        let mut m = members(2, &live);
+        let mut steps = 0;
+        while work.done.load(Ordering::Acquire) < 200 && steps < 2_000 {
+            let mut refs: Vec<&mut Member> = m.iter_mut().collect();
+            assert!(pool.step(&mut refs, 0.0, 1.0).iter().all(|r| r.is_ok()));
+            steps += 1;
+        }
+        assert_eq!(
+            work.done.load(Ordering::Acquire),
+            200,
+            "after {steps} steps"
+        );
+        assert!(m.iter().all(|x| x.steps == steps));
+    }
+
+    /// A piece that panics is contained: its work is offered no more, and the pool's steps go on.
+    #[test]
+    fn a_panicking_piece_of_idle_work_is_dropped_and_the_pool_lives_on() {
+        let live = Arc::new(AtomicUsize::new(0));
+        let pool = StepPool::new(2);
+        let bad = pieces(1_000, Some(3));
+        pool.idle_workers().offer(bad.clone());
+        let mut m = members(2, &live);
+        for _ in 0..20 {
+            let mut refs: Vec<&mut Member> = m.iter_mut().collect();
+            assert!(pool.step(&mut refs, 0.0, 1.0).iter().all(|r| r.is_ok()));
+        }
+        assert_eq!(
+            bad.done.load(Ordering::Acquire),
+            3,
+            "no piece after the panic"
+        );
+        let good = pieces(10, None);
+        pool.idle_workers().offer(good.clone());
+        for _ in 0..2_000 {
+            if good.done.load(Ordering::Acquire) == 10 {
+                break;
+            }
+            let mut refs: Vec<&mut Member> = m.iter_mut().collect();
+            assert!(pool.step(&mut refs, 0.0, 1.0).iter().all(|r| r.is_ok()));
+        }
+        assert_eq!(good.done.load(Ordering::Acquire), 10);
     }
 }

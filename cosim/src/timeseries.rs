@@ -1,18 +1,24 @@
 //! CSV time series, flushed at least every second of wall time so a killed run keeps its data;
 //! [`CsvObserver`] writes one from a run.
 
+use crate::parallel::IdleWork;
+use std::collections::VecDeque;
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Seek, Write};
 use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex, MutexGuard};
 use std::time::{Duration, Instant};
 
 pub struct TimeSeriesWriter {
+    path: std::path::PathBuf,
     out: BufWriter<File>,
     last_flush: Instant,
     /// Bytes written so far (the checkpoint records it to truncate on resume).
     pub bytes: u64,
-    /// FNV-1a 64 of those bytes (the checkpoint records it: a resume checks the prefix it keeps).
-    pub check: u64,
+    /// FNV-1a 64 of the first `checked_bytes` bytes ([`TimeSeriesWriter::check`] extends it).
+    check_state: u64,
+    checked_bytes: u64,
     /// One row's text, reused (no allocation per value or row).
     line: String,
 }
@@ -23,10 +29,12 @@ impl TimeSeriesWriter {
     /// New file with the header `time [s]`, then `name [unit]` per column.
     pub fn create(path: &Path, columns: &[(String, String)]) -> std::io::Result<Self> {
         let mut w = TimeSeriesWriter {
+            path: path.to_path_buf(),
             out: BufWriter::new(File::create(path)?),
             last_flush: Instant::now(),
             bytes: 0,
-            check: crate::checkpoint::FNV_START,
+            check_state: crate::checkpoint::FNV_START,
+            checked_bytes: 0,
             line: String::new(),
         };
         let mut header = String::from("time [s]");
@@ -50,10 +58,12 @@ impl TimeSeriesWriter {
         let mut f = f;
         f.seek(std::io::SeekFrom::End(0))?;
         Ok(TimeSeriesWriter {
+            path: path.to_path_buf(),
             out: BufWriter::new(f),
             last_flush: Instant::now(),
             bytes,
-            check,
+            check_state: check,
+            checked_bytes: bytes,
             line: String::new(),
         })
     }
@@ -61,8 +71,47 @@ impl TimeSeriesWriter {
     fn write_raw(&mut self, b: &[u8]) -> std::io::Result<()> {
         self.out.write_all(b)?;
         self.bytes += b.len() as u64;
-        self.check = crate::checkpoint::checksum_continue(self.check, b);
         Ok(())
+    }
+
+    /// FNV-1a 64 of the `bytes` written so far (a checkpoint records it: a resume checks the
+    /// prefix it keeps). Flushes, then continues the checksum over the bytes written since the
+    /// last call, read back from the file (the page cache). Until 2026-12-06 every row's text
+    /// went through the checksum as it was written: FNV-1a takes one multiply per byte in a
+    /// chain, ~48 ms of a path-1 run-up's 44 MB on the master's thread, though only checkpoints
+    /// (and an interrupted run's last one) read it. The same bytes give the same checksum.
+    pub fn check(&mut self) -> std::io::Result<u64> {
+        self.flush()?;
+        if self.checked_bytes < self.bytes {
+            use std::io::{Read, SeekFrom};
+            let mut f = File::open(&self.path)?;
+            f.seek(SeekFrom::Start(self.checked_bytes))?;
+            let mut rest = f.take(self.bytes - self.checked_bytes);
+            let mut buf = vec![0u8; 1 << 16];
+            let mut h = self.check_state;
+            let mut read = 0u64;
+            loop {
+                let n = rest.read(&mut buf)?;
+                if n == 0 {
+                    break;
+                }
+                h = crate::checkpoint::checksum_continue(h, &buf[..n]);
+                read += n as u64;
+            }
+            if read != self.bytes - self.checked_bytes {
+                return Err(std::io::Error::new(
+                    std::io::ErrorKind::UnexpectedEof,
+                    format!(
+                        "{} bytes in the file where {} were written",
+                        self.checked_bytes + read,
+                        self.bytes
+                    ),
+                ));
+            }
+            self.check_state = h;
+            self.checked_bytes = self.bytes;
+        }
+        Ok(self.check_state)
     }
 
     pub fn row(&mut self, t: f64, values: &[f64]) -> std::io::Result<()> {
@@ -95,22 +144,97 @@ impl TimeSeriesWriter {
 /// The time-series file as an observer: `timeseries.csv` in the run folder, created at the start
 /// (or cut back to the checkpoint's byte count on resume), a row per sample, flushed at every
 /// checkpoint and at the end.
+///
+/// A sample's values are queued; the row's text is made and written by whichever thread gets to
+/// it first: a thread waiting on the run's parallel pool, one row at a time between its steps
+/// ([`IdleWork`]), or this observer itself once [`MAX_QUEUED_ROWS`] rows wait, and at every
+/// checkpoint and the end. One lock keeps the rows in order. In a path-1 run-up the rows' text
+/// and writes were ~60-80 ms of the master's own thread (2026-12-06), which the pool's worker
+/// now does while it waits for the next film step. Without a pool every row is written at once.
 pub struct CsvObserver {
     path: std::path::PathBuf,
-    writer: Option<TimeSeriesWriter>,
+    queue: Option<Arc<RowQueue>>,
+    /// Threads waiting on a pool take rows (otherwise each row is written as it comes).
+    offloaded: bool,
+}
+
+/// Rows a sample leaves for the pool's waiting threads before the observer writes them itself
+/// (a worker parked because its films step one after the other takes none).
+pub const MAX_QUEUED_ROWS: usize = 64;
+
+struct RowQueue {
+    /// Rows waiting (read without the lock by the idle threads).
+    pending: AtomicUsize,
+    rows: Mutex<QueuedRows>,
+}
+
+struct QueuedRows {
+    writer: TimeSeriesWriter,
+    /// Waiting rows, time first, oldest first; `spare` keeps written rows' buffers.
+    waiting: VecDeque<Vec<f64>>,
+    spare: Vec<Vec<f64>>,
+    /// The first failed write (no row is written after it).
+    error: Option<String>,
+}
+
+impl RowQueue {
+    fn lock(&self) -> Result<MutexGuard<'_, QueuedRows>, String> {
+        self.rows
+            .lock()
+            .map_err(|_| "the time-series writer failed (a panic while writing a row)".to_string())
+    }
+
+    /// Writes the oldest waiting row; false if none waited.
+    fn write_one(&self, q: &mut QueuedRows) -> bool {
+        let Some(row) = q.waiting.pop_front() else {
+            return false;
+        };
+        self.pending.fetch_sub(1, Ordering::Release);
+        if q.error.is_none() {
+            if let Err(e) = q.writer.row(row[0], &row[1..]) {
+                q.error = Some(format!("{}: {e}", q.writer.path.display()));
+            }
+        }
+        q.spare.push(row);
+        true
+    }
+
+    /// Writes every waiting row; the first write error, if any.
+    fn write_all(&self, q: &mut QueuedRows) -> Result<(), String> {
+        while self.write_one(q) {}
+        match &q.error {
+            Some(e) => Err(e.clone()),
+            None => Ok(()),
+        }
+    }
+}
+
+impl IdleWork for RowQueue {
+    fn run_one(&self) -> bool {
+        if self.pending.load(Ordering::Acquire) == 0 {
+            return false;
+        }
+        // The master holds the lock only to queue a row or to write them all: then there is
+        // nothing for this thread to do.
+        match self.rows.try_lock() {
+            Ok(mut q) => self.write_one(&mut q),
+            Err(_) => false,
+        }
+    }
 }
 
 impl CsvObserver {
     pub fn new(path: impl Into<std::path::PathBuf>) -> Self {
         CsvObserver {
             path: path.into(),
-            writer: None,
+            queue: None,
+            offloaded: false,
         }
     }
 
-    fn writer(&mut self) -> Result<&mut TimeSeriesWriter, String> {
-        self.writer
-            .as_mut()
+    fn queue(&self) -> Result<&Arc<RowQueue>, String> {
+        self.queue
+            .as_ref()
             .ok_or_else(|| format!("{}: written before the run started", self.path.display()))
     }
 }
@@ -132,23 +256,49 @@ impl crate::Observer for CsvObserver {
                 TimeSeriesWriter::create(&self.path, &columns)
             }
         };
-        self.writer = Some(w.map_err(|e| format!("{}: {e}", self.path.display()))?);
+        let writer = w.map_err(|e| format!("{}: {e}", self.path.display()))?;
+        let queue = Arc::new(RowQueue {
+            pending: AtomicUsize::new(0),
+            rows: Mutex::new(QueuedRows {
+                writer,
+                waiting: VecDeque::new(),
+                spare: Vec::new(),
+                error: None,
+            }),
+        });
+        self.offloaded = run.idle_workers.is_some();
+        if let Some(idle) = &run.idle_workers {
+            idle.offer(queue.clone());
+        }
+        self.queue = Some(queue);
         Ok(())
     }
 
     fn sample(&mut self, t_s: f64, values: &[f64]) -> Result<(), String> {
-        let path = self.path.display().to_string();
-        self.writer()?
-            .row(t_s, values)
-            .map_err(|e| format!("{path}: {e}"))
+        let queue = self.queue()?;
+        let mut q = queue.lock()?;
+        if let Some(e) = &q.error {
+            return Err(e.clone());
+        }
+        let mut row = q.spare.pop().unwrap_or_default();
+        row.clear();
+        row.push(t_s);
+        row.extend_from_slice(values);
+        q.waiting.push_back(row);
+        queue.pending.fetch_add(1, Ordering::Release);
+        if !self.offloaded || q.waiting.len() > MAX_QUEUED_ROWS {
+            queue.write_all(&mut q)?;
+        }
+        Ok(())
     }
 
     fn checkpoint(&mut self, state: &mut crate::checkpoint::MasterState) -> Result<(), String> {
+        let queue = self.queue()?;
+        let mut q = queue.lock()?;
+        queue.write_all(&mut q)?;
         let path = self.path.display().to_string();
-        let w = self.writer()?;
-        w.flush().map_err(|e| format!("{path}: {e}"))?;
-        state.csv_bytes = w.bytes;
-        state.csv_check = Some(w.check);
+        state.csv_check = Some(q.writer.check().map_err(|e| format!("{path}: {e}"))?);
+        state.csv_bytes = q.writer.bytes;
         Ok(())
     }
 
@@ -157,10 +307,24 @@ impl crate::Observer for CsvObserver {
         _cosim: &crate::CoSim,
         _report: &crate::RunReport,
     ) -> Result<(), String> {
+        let Some(queue) = &self.queue else {
+            return Ok(());
+        };
+        let mut q = queue.lock()?;
+        queue.write_all(&mut q)?;
         let path = self.path.display().to_string();
-        match self.writer.as_mut() {
-            Some(w) => w.flush().map_err(|e| format!("{path}: {e}")),
-            None => Ok(()),
+        q.writer.flush().map_err(|e| format!("{path}: {e}"))
+    }
+}
+
+impl Drop for CsvObserver {
+    /// Rows still queued are written (a run that ends without `finished` loses none).
+    fn drop(&mut self) {
+        if let Some(queue) = &self.queue {
+            if let Ok(mut q) = queue.rows.lock() {
+                let _ = queue.write_all(&mut q);
+                let _ = q.writer.flush();
+            }
         }
     }
 }
@@ -236,6 +400,35 @@ pub fn read(path: &Path) -> std::io::Result<(Vec<String>, Vec<Vec<f64>>)> {
 mod resume_tests {
     use super::*;
 
+    /// The checksum taken in pieces (at checkpoints, after a resume) is the whole file's.
+    #[test]
+    fn the_checksum_in_pieces_and_after_a_resume_is_the_whole_files() {
+        let dir = std::env::temp_dir().join(format!("cosim-ts-check-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let p = dir.join("s.csv");
+        let whole = |p: &Path| crate::checkpoint::checksum(&std::fs::read(p).unwrap());
+        let mut w = TimeSeriesWriter::create(&p, &[("a.x".into(), "m".into())]).unwrap();
+        assert_eq!(w.check().unwrap(), whole(&p), "the header alone");
+        // More than one read-back buffer between two checks.
+        for k in 0..20_000 {
+            w.row(k as f64 * 1e-5, &[(k as f64).sqrt()]).unwrap();
+        }
+        let first = w.check().unwrap();
+        assert_eq!(first, whole(&p));
+        assert_eq!(w.check().unwrap(), first, "nothing written since");
+        let bytes = w.bytes;
+        w.row(0.5, &[1.0]).unwrap();
+        drop(w);
+        // A resume cuts the row after the checkpoint and continues the checksum from it.
+        let mut w = TimeSeriesWriter::resume(&p, bytes, first).unwrap();
+        for k in 0..100 {
+            w.row(1.0 + k as f64, &[-1.0]).unwrap();
+        }
+        assert_eq!(w.check().unwrap(), whole(&p));
+        assert_ne!(w.check().unwrap(), first);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
     #[test]
     fn a_damaged_series_is_not_resumed() {
         let dir = std::env::temp_dir().join(format!("cosim-ts-{}", std::process::id()));
@@ -245,8 +438,8 @@ mod resume_tests {
         for k in 0..10 {
             w.row(k as f64, &[1.0]).unwrap();
         }
-        w.flush().unwrap();
-        let (bytes, rows, check) = (w.bytes, 10, w.check);
+        let check = w.check().unwrap();
+        let (bytes, rows) = (w.bytes, 10);
         drop(w);
         assert_eq!(check_resumable(&p, bytes, rows, Some(check)), Ok(check));
         // (Checkpoints of earlier versions carry no checksum.)
@@ -294,6 +487,78 @@ mod resume_tests {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    struct Sleeper;
+
+    impl crate::parallel::Step for Sleeper {
+        fn step(&mut self, _t: f64, _h: f64) -> Result<(), fmi2::importer::CallError> {
+            std::thread::sleep(Duration::from_micros(200));
+            Ok(())
+        }
+    }
+
+    /// Rows queued for a pool's waiting threads reach the file complete and in order, the same
+    /// bytes as rows written at once; a checkpoint in between records exactly the rows sampled
+    /// before it, with their checksum.
+    #[test]
+    fn rows_written_by_the_pools_threads_are_the_rows_written_at_once() {
+        use crate::Observer;
+        let dir = std::env::temp_dir().join(format!("cosim-ts-pool-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let columns: Vec<crate::Recorded> = ["a", "b", "c"]
+            .iter()
+            .enumerate()
+            .map(|(k, n)| crate::Recorded {
+                subsystem: 0,
+                vr: k as u32,
+                name: format!("m.{n}"),
+                unit: "m".into(),
+            })
+            .collect();
+        let value = |k: usize, j: usize| ((k * 3 + j) as f64 * 0.37).sin() * 1e-6;
+        let pool = crate::parallel::StepPool::new(2);
+        let mut m = [Sleeper, Sleeper];
+        let mut file = |name: &str, idle: Option<crate::parallel::IdleWorkers>| {
+            let path = dir.join(name);
+            let mut obs = CsvObserver::new(&path);
+            obs.started(&crate::RunStart {
+                columns: &columns,
+                resumed_from: None,
+                stop_time_s: 1.0,
+                output_interval_s: 1e-3,
+                idle_workers: idle.clone(),
+            })
+            .unwrap();
+            let mut at_checkpoint = None;
+            for k in 0..500 {
+                let v = [value(k, 0), value(k, 1), value(k, 2)];
+                obs.sample(k as f64 * 1e-3, &v).unwrap();
+                if idle.is_some() {
+                    let mut refs: Vec<&mut Sleeper> = m.iter_mut().collect();
+                    pool.step(&mut refs, 0.0, 1.0);
+                }
+                if k == 299 {
+                    let state = crate::algorithm::AlgorithmState {
+                        t_s: 0.3,
+                        histories: vec![],
+                        refine_level: 0,
+                    };
+                    let mut ms = crate::checkpoint::MasterState::new(&state, 300, 300, 0.0);
+                    obs.checkpoint(&mut ms).unwrap();
+                    at_checkpoint = Some((ms.csv_bytes, ms.csv_check));
+                }
+            }
+            drop(obs);
+            (std::fs::read(&path).unwrap(), at_checkpoint.unwrap())
+        };
+        let (at_once, _) = file("at_once.csv", None);
+        let (pooled, (bytes, check)) = file("pooled.csv", Some(pool.idle_workers()));
+        assert_eq!(pooled, at_once);
+        let prefix = &pooled[..bytes as usize];
+        assert_eq!(prefix.iter().filter(|b| **b == b'\n').count(), 301);
+        assert_eq!(check, Some(crate::checkpoint::checksum(prefix)));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 
     /// Every value reads back to the same bits (NaN as NaN): the series is the exact record.
     #[test]
