@@ -40,20 +40,22 @@ impl Disturbance {
 
     /// The four force components [N] at time `t_s`: (F_C_x, F_C_y, F_T_x, F_T_y).
     pub fn forces_n(&self, t_s: f64) -> [f64; CHANNELS] {
+        DisturbanceGrid::new(*self).forces_n(t_s)
+    }
+
+    /// The grid interval holding `t_s` and the fraction of it passed, or None where the force is 0.
+    fn locate(&self, t_s: f64) -> Option<(u64, f64)> {
         if self.is_off() || !t_s.is_finite() || t_s < 0.0 {
-            return [0.0; CHANNELS];
+            return None;
         }
         let s = t_s / self.interval_s;
         let k = s.floor();
-        let w = s - k;
-        let k = k as u64;
-        let mut out = [0.0; CHANNELS];
-        for (ch, o) in out.iter_mut().enumerate() {
-            let a = self.sample(ch as u64, k);
-            let b = self.sample(ch as u64, k + 1);
-            *o = self.force_rms_n * (a + w * (b - a));
-        }
-        out
+        Some((k as u64, s - k))
+    }
+
+    /// The standard normal values of the four channels at grid point `k`.
+    fn grid_values(&self, k: u64) -> [f64; CHANNELS] {
+        std::array::from_fn(|ch| self.sample(ch as u64, k))
     }
 
     /// A standard normal value for channel `ch` at grid point `k` (Box-Muller on two
@@ -63,6 +65,45 @@ impl Disturbance {
         let u1 = uniform_open(splitmix64(key ^ splitmix64(2 * k)));
         let u2 = uniform_open(splitmix64(key ^ splitmix64(2 * k + 1)));
         (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+    }
+}
+
+/// A [`Disturbance`] that keeps the grid values of the interval it was last asked about: a rotor
+/// step takes its inputs at a few times between two grid points (100 us apart at the default;
+/// 3-4 evaluations per 50 us macro step), and each channel's value costs a logarithm, a cosine
+/// and six hashes. Until 2026-12-06 all eight were drawn at every evaluation: ~14 % of the
+/// rotor's samples in a path-1 run-up, beside the logarithms and cosines in libm. The same
+/// values, so the same forces, bit for bit.
+#[derive(Clone, Copy, Debug)]
+pub struct DisturbanceGrid {
+    d: Disturbance,
+    /// Grid index k of the values kept, and the values at k and k + 1.
+    kept: Option<(u64, [f64; CHANNELS], [f64; CHANNELS])>,
+}
+
+impl DisturbanceGrid {
+    pub fn new(d: Disturbance) -> DisturbanceGrid {
+        DisturbanceGrid { d, kept: None }
+    }
+
+    /// The disturbance whose values it keeps.
+    pub fn disturbance(&self) -> Disturbance {
+        self.d
+    }
+
+    /// The four force components [N] at time `t_s` (see [`Disturbance::forces_n`]).
+    pub fn forces_n(&mut self, t_s: f64) -> [f64; CHANNELS] {
+        let Some((k, w)) = self.d.locate(t_s) else {
+            return [0.0; CHANNELS];
+        };
+        let (a, b) = match self.kept {
+            Some((kk, a, b)) if kk == k => (a, b),
+            // The next interval: its left values are the kept right ones.
+            Some((kk, _, b)) if kk.checked_add(1) == Some(k) => (b, self.d.grid_values(k + 1)),
+            _ => (self.d.grid_values(k), self.d.grid_values(k + 1)),
+        };
+        self.kept = Some((k, a, b));
+        std::array::from_fn(|ch| self.d.force_rms_n * (a[ch] + w * (b[ch] - a[ch])))
     }
 }
 
@@ -135,6 +176,39 @@ mod tests {
         let later_first = d.forces_n(0.37);
         let _ = d.forces_n(0.01);
         assert_eq!(later_first, d.forces_n(0.37));
+    }
+
+    /// The kept grid values give the fresh evaluation's forces bit for bit, forwards, across
+    /// grid points, backwards (a roll-back) and after a jump.
+    #[test]
+    fn the_kept_grid_gives_the_fresh_forces_bit_for_bit() {
+        let d = dist(5);
+        let mut grid = DisturbanceGrid::new(d);
+        let mut times: Vec<f64> = (0..2_000).map(|i| i as f64 * 7.3e-6).collect();
+        times.extend([
+            1e-2,
+            0.5e-2,
+            0.3,
+            0.30001,
+            0.0,
+            2e-4,
+            1.0000000001e-4,
+            -1.0,
+            f64::NAN,
+        ]);
+        for t in times {
+            let fresh = d.forces_n(t);
+            let kept = grid.forces_n(t);
+            for c in 0..4 {
+                assert_eq!(
+                    kept[c].to_bits(),
+                    fresh[c].to_bits(),
+                    "t = {t} s, channel {c}"
+                );
+            }
+        }
+        let mut off = DisturbanceGrid::new(Disturbance::OFF);
+        assert_eq!(off.forces_n(0.1), [0.0; 4]);
     }
 
     #[test]

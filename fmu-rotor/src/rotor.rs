@@ -9,6 +9,7 @@
 
 use crate::body::{PointMass, RigidBody};
 use crate::constraint::Constraint;
+use crate::disturbance::DisturbanceGrid;
 use crate::integrator::{GglBdf, StepStats, Tolerances};
 use crate::params::{RotorError, RotorParams, SpeedProfile};
 use crate::system::{ForceElement, MultibodySystem};
@@ -127,6 +128,10 @@ pub struct Rotor {
     params: RotorParams,
     profile: SpeedProfile,
     integ: GglBdf,
+    /// The disturbance's grid values last used (a cache of a pure function of time: not part
+    /// of the state, and rebuilt when the parameters change).
+    #[serde(skip)]
+    disturbance_grid: Option<DisturbanceGrid>,
 }
 
 fn ring_body(m: f64) -> RigidBody {
@@ -301,6 +306,7 @@ impl Rotor {
             params,
             profile,
             integ,
+            disturbance_grid: None,
         })
     }
 
@@ -397,7 +403,10 @@ impl Rotor {
                 "step size h = {h_s} s must be positive and finite"
             )));
         }
-        let disturbance = self.params.disturbance;
+        let mut disturbance = match self.disturbance_grid.take() {
+            Some(g) if g.disturbance() == self.params.disturbance => g,
+            _ => DisturbanceGrid::new(self.params.disturbance),
+        };
         let mut inputs = |tt: f64, u: &mut [f64]| -> Result<(), RotorError> {
             let f = forces(tt);
             if !f.is_finite() {
@@ -409,7 +418,9 @@ impl Rotor {
             u[4..].copy_from_slice(&disturbance.forces_n(tt));
             Ok(())
         };
-        self.integ.advance_to(t0_s + h_s, &mut inputs)
+        let r = self.integ.advance_to(t0_s + h_s, &mut inputs);
+        self.disturbance_grid = Some(disturbance);
+        r
     }
 
     fn bearing(&self, s: &[f64; 3], ring: usize) -> BearingOutputs {
