@@ -23,7 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use super::onset::{self, OscTrack};
 use super::series::{Bearing, RunSeries};
-use super::spectrum::dominant_whirl_hz;
+use super::spectrum::WhirlFrequency;
 
 /// An onset below 10% of the top speed (200 Hz of 2000 Hz) is "at very low speed": it lies at or below the
 /// rigid-body modes (125-181 Hz, paper 2.3), far below the paper's earliest Section 3 onset (767 Hz, 38%).
@@ -243,7 +243,7 @@ pub fn classify_with(series: &RunSeries, b: &Bounds) -> Classification {
     series.check();
     // Thresholds scale with each bearing's own clearance.
     let cl = series.clearance_m;
-    let spin = series.spin_angle_rad();
+    let spin = series.spin();
     let thr = cl.map(|c| b.onset_amp_rel * c);
     let tracks: Vec<OscTrack> = Bearing::BOTH
         .iter()
@@ -504,13 +504,13 @@ fn max_after_startup(tr: &OscTrack, series: &RunSeries) -> f64 {
 }
 
 /// Whirl windows from the onset to the end of the run.
-fn whirl_samples(series: &RunSeries, spin: &[f64], t_on: f64) -> Vec<WhirlSample> {
+fn whirl_samples(series: &RunSeries, spin: &super::series::Spin, t_on: f64) -> Vec<WhirlSample> {
     let (n_win, hop) = onset::window_samples(series, WHIRL_WINDOW_S, WHIRL_HOP_S);
     let dt = series.dt_s();
     let mut out = Vec::new();
     let mut start = series.t_s.partition_point(|t| *t < t_on);
     // Zero padding to 8x the window for a peak interpolation accurate to a fraction of a bin.
-    let min_fft = 8 * n_win;
+    let mut whirl_hz = WhirlFrequency::new(8 * n_win);
     while start + n_win <= series.len() {
         let mut amp = [0.0; 2];
         let mut f = [0.0; 2];
@@ -519,7 +519,7 @@ fn whirl_samples(series: &RunSeries, spin: &[f64], t_on: f64) -> Vec<WhirlSample
             let (rx, ry) = onset::detrend_window(&series.t_s, x, y, spin, start..start + n_win);
             amp[k] =
                 (rx.iter().zip(&ry).map(|(a, b)| a * a + b * b).sum::<f64>() / n_win as f64).sqrt();
-            f[k] = dominant_whirl_hz(&rx, &ry, dt, WHIRL_F_MIN_HZ, min_fft);
+            f[k] = whirl_hz.dominant_hz(&rx, &ry, dt, WHIRL_F_MIN_HZ);
         }
         let t = 0.5 * (series.t_s[start] + series.t_s[start + n_win - 1]);
         out.push(WhirlSample {

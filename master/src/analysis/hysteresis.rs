@@ -45,7 +45,7 @@ pub fn run_down_start(series: &RunSeries) -> Option<usize> {
 /// The start and stop of the whirl of a run with a run-down (None: no run-down in the series).
 pub fn hysteresis(series: &RunSeries, class: &Classification) -> Option<Hysteresis> {
     let down = run_down_start(series)?;
-    let spin = series.spin_angle_rad();
+    let spin = series.spin();
     let tracks: Vec<(Bearing, OscTrack)> = Bearing::BOTH
         .iter()
         .map(|b| {

@@ -17,7 +17,7 @@
 //!    from standstill and its onset is the start of the series.
 //! 4. The onset time is the threshold crossing, linearly interpolated between the window centres.
 
-use super::series::{Bearing, RunSeries};
+use super::series::{Bearing, RunSeries, Spin};
 
 /// Window of the oscillation-amplitude estimate. Long against the whirl periods (whirl near the rigid-body
 /// modes >= 125 Hz, paper 2.3: 2.5 periods; near 0.45x at 767 Hz: 7 periods), short against the
@@ -51,7 +51,7 @@ pub fn detrend_window(
     t: &[f64],
     x: &[f64],
     y: &[f64],
-    spin: &[f64],
+    spin: &Spin,
     range: std::ops::Range<usize>,
 ) -> (Vec<f64>, Vec<f64>) {
     let (i0, i1) = (range.start, range.end);
@@ -61,12 +61,12 @@ pub fn detrend_window(
     }
     let tc = 0.5 * (t[i0] + t[i1 - 1]);
     let half = (0.5 * (t[i1 - 1] - t[i0])).max(1e-300);
-    let with_1x = spin[i1 - 1] - spin[i0] >= std::f64::consts::TAU;
+    let with_1x = spin.angle_rad[i1 - 1] - spin.angle_rad[i0] >= std::f64::consts::TAU;
     let m = if with_1x { 4 } else { 2 };
     let basis = |i: usize| -> [f64; 4] {
         let s = (t[i] - tc) / half;
         if with_1x {
-            [1.0, s, spin[i].cos(), spin[i].sin()]
+            [1.0, s, spin.cos[i], spin.sin[i]]
         } else {
             [1.0, s, 0.0, 0.0]
         }
@@ -153,7 +153,7 @@ pub fn window_samples(series: &RunSeries, window_s: f64, hop_s: f64) -> (usize, 
 pub fn oscillation_track(
     series: &RunSeries,
     bearing: Bearing,
-    spin: &[f64],
+    spin: &Spin,
     window_s: f64,
     hop_s: f64,
 ) -> OscTrack {

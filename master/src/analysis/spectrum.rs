@@ -77,54 +77,121 @@ pub fn spectrogram(signal: &[f64], dt_s: f64, window_s: f64, hop_s: f64) -> Spec
 /// Hann window, zero-padded to at least `min_fft` points, parabolic interpolation of the log magnitude
 /// around the peak. Only |f| >= `f_min_hz` is searched (below it lies what the detrending left of the drift).
 pub fn dominant_whirl_hz(x: &[f64], y: &[f64], dt_s: f64, f_min_hz: f64, min_fft: usize) -> f64 {
-    let n = x.len().min(y.len());
-    if n < 4 {
-        return 0.0;
+    WhirlFrequency::new(min_fft).dominant_hz(x, y, dt_s, f_min_hz)
+}
+
+/// [`dominant_whirl_hz`] for many windows: the Hann window, the FFT plan and its buffer are made
+/// once per window length and kept. A run-up's classification takes the whirl frequency of both
+/// bearings in every whirl window; a new plan per call computed its twiddle factors (a sine and
+/// cosine each) and a new window every time. The same plan and window for the same lengths, so
+/// the same frequencies, bit for bit.
+pub struct WhirlFrequency {
+    min_fft: usize,
+    /// Window length the window and plan below are for (0: none yet).
+    n: usize,
+    window: Vec<f64>,
+    fft: Option<std::sync::Arc<dyn rustfft::Fft<f64>>>,
+    buf: Vec<Complex<f64>>,
+}
+
+impl WhirlFrequency {
+    pub fn new(min_fft: usize) -> WhirlFrequency {
+        WhirlFrequency {
+            min_fft,
+            n: 0,
+            window: Vec::new(),
+            fft: None,
+            buf: Vec::new(),
+        }
     }
-    let nfft = n.max(min_fft).next_power_of_two();
-    let w = hann(n);
-    let mut buf = vec![Complex::new(0.0, 0.0); nfft];
-    for i in 0..n {
-        buf[i] = Complex::new(x[i] * w[i], y[i] * w[i]);
-    }
-    FftPlanner::<f64>::new()
-        .plan_fft_forward(nfft)
-        .process(&mut buf);
-    let df = 1.0 / (nfft as f64 * dt_s);
-    let freq = |k: usize| {
-        if k <= nfft / 2 {
-            k as f64 * df
+
+    /// See [`dominant_whirl_hz`].
+    pub fn dominant_hz(&mut self, x: &[f64], y: &[f64], dt_s: f64, f_min_hz: f64) -> f64 {
+        let n = x.len().min(y.len());
+        if n < 4 {
+            return 0.0;
+        }
+        let nfft = n.max(self.min_fft).next_power_of_two();
+        if self.n != n || self.fft.is_none() {
+            self.window = hann(n);
+            self.fft = Some(FftPlanner::<f64>::new().plan_fft_forward(nfft));
+            self.n = n;
+        }
+        let (w, buf) = (&self.window, &mut self.buf);
+        buf.clear();
+        buf.resize(nfft, Complex::new(0.0, 0.0));
+        for i in 0..n {
+            buf[i] = Complex::new(x[i] * w[i], y[i] * w[i]);
+        }
+        self.fft.as_ref().expect("planned above").process(buf);
+        let df = 1.0 / (nfft as f64 * dt_s);
+        let freq = |k: usize| {
+            if k <= nfft / 2 {
+                k as f64 * df
+            } else {
+                (k as f64 - nfft as f64) * df
+            }
+        };
+        let mut best = None;
+        for k in 0..nfft {
+            if freq(k).abs() < f_min_hz {
+                continue;
+            }
+            let m = buf[k].norm_sqr();
+            match best {
+                Some((_, bm)) if bm >= m => {}
+                _ => best = Some((k, m)),
+            }
+        }
+        let Some((k, _)) = best else { return 0.0 };
+        let lm = |j: usize| buf[j % nfft].norm_sqr().max(1e-300).ln();
+        let (a, b, c) = (lm(k + nfft - 1), lm(k), lm(k + 1));
+        let denom = a - 2.0 * b + c;
+        let shift = if denom < 0.0 {
+            (0.5 * (a - c) / denom).clamp(-0.5, 0.5)
         } else {
-            (k as f64 - nfft as f64) * df
-        }
-    };
-    let mut best = None;
-    for k in 0..nfft {
-        if freq(k).abs() < f_min_hz {
-            continue;
-        }
-        let m = buf[k].norm_sqr();
-        match best {
-            Some((_, bm)) if bm >= m => {}
-            _ => best = Some((k, m)),
-        }
+            0.0
+        };
+        freq(k) + shift * df
     }
-    let Some((k, _)) = best else { return 0.0 };
-    let lm = |j: usize| buf[j % nfft].norm_sqr().max(1e-300).ln();
-    let (a, b, c) = (lm(k + nfft - 1), lm(k), lm(k + 1));
-    let denom = a - 2.0 * b + c;
-    let shift = if denom < 0.0 {
-        (0.5 * (a - c) / denom).clamp(-0.5, 0.5)
-    } else {
-        0.0
-    };
-    freq(k) + shift * df
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::f64::consts::TAU;
+
+    /// One `WhirlFrequency` over windows of changing lengths (each change plans again) gives the
+    /// same bits as a fresh plan and window per call, and finds the whirl.
+    #[test]
+    fn a_kept_plan_gives_the_fresh_plans_frequencies_bit_for_bit() {
+        let dt = 5e-5;
+        let z = |i: usize, f: f64| {
+            let t = i as f64 * dt;
+            (
+                (TAU * f * t).cos() + 0.1 * (TAU * 37.0 * t).sin(),
+                (TAU * f * t).sin(),
+            )
+        };
+        let mut kept = WhirlFrequency::new(4096);
+        for (n, f) in [
+            (400, 310.0),
+            (400, -255.0),
+            (333, 480.0),
+            (1000, 190.0),
+            (400, 310.0),
+        ] {
+            let (x, y): (Vec<f64>, Vec<f64>) = (0..n).map(|i| z(i, f)).unzip();
+            let fresh = dominant_whirl_hz(&x, &y, dt, 20.0, 4096);
+            let reused = kept.dominant_hz(&x, &y, dt, 20.0);
+            assert_eq!(fresh.to_bits(), reused.to_bits(), "window of {n} samples");
+            let bin = 1.0 / (4096.0_f64.max(n as f64).log2().ceil().exp2() * dt);
+            assert!(
+                (reused - f).abs() < bin,
+                "{reused} Hz for a whirl at {f} Hz"
+            );
+        }
+    }
 
     #[test]
     fn pure_sine_peak_within_one_bin_and_amplitude() {

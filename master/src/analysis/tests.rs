@@ -236,7 +236,7 @@ fn onset_detector_reads_a_clean_sqrt_growth() {
         hopf_amp(0.5, 0.5 * C_M, 0.1),
         |_| 300.0,
     );
-    let spin = s.spin_angle_rad();
+    let spin = s.spin();
     let tr = onset::oscillation_track(&s, Bearing::C, &spin, onset::AMP_WINDOW_S, onset::AMP_HOP_S);
     let t = onset::sustained_onset(
         &tr,
