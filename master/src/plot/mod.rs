@@ -183,28 +183,60 @@ pub fn base64(data: &[u8]) -> String {
 }
 
 /// Write the run-up figures into `out_dir` (which must exist): `eps`, `y_journal`, `waterfall_C`,
-/// `waterfall_T`, `orbit_C`, `orbit_T`, each as `.svg` and `.png`. Returns the written paths.
+/// `orbit_C`, `waterfall_T`, `orbit_T`, each as `.svg` and `.png`. Returns the written paths, in
+/// that order. The figures are drawn on two threads (each figure's spectrogram, raster and PNG
+/// are its own): ~55 ms of path 1's ~110 ms after the co-simulation were figures, one after the
+/// other, while the second core waited.
 pub fn plot_runup(
     series: &RunSeries,
     class: &Classification,
     bores: &[Bore; 2],
     out_dir: &Path,
 ) -> std::io::Result<Vec<PathBuf>> {
+    use crate::analysis::Bearing;
     series.check();
+    let figure = |k: usize| -> std::io::Result<Vec<PathBuf>> {
+        match k {
+            0 => figures::eps(series, class).save(out_dir, "eps"),
+            1 => figures::y_journal(series, class).save(out_dir, "y_journal"),
+            2 => figures::waterfall(series, Bearing::C).save(out_dir, "waterfall_C"),
+            3 => figures::orbit(series, Bearing::C, &bores[0]).save(out_dir, "orbit_C"),
+            4 => figures::waterfall(series, Bearing::T).save(out_dir, "waterfall_T"),
+            _ => figures::orbit(series, Bearing::T, &bores[1]).save(out_dir, "orbit_T"),
+        }
+    };
     let mut out = Vec::new();
-    out.extend(figures::eps(series, class).save(out_dir, "eps")?);
-    out.extend(figures::y_journal(series, class).save(out_dir, "y_journal")?);
-    for (b, name) in [
-        (crate::analysis::Bearing::C, "C"),
-        (crate::analysis::Bearing::T, "T"),
-    ] {
-        out.extend(figures::waterfall(series, b).save(out_dir, &format!("waterfall_{name}"))?);
-        out.extend(
-            figures::orbit(series, b, &bores[b as usize])
-                .save(out_dir, &format!("orbit_{name}"))?,
-        );
+    for files in on_two_threads(6, figure) {
+        out.extend(files?);
     }
     Ok(out)
+}
+
+/// `job(0..n)` on the caller's thread and one more, each taking the next index when it is free;
+/// the results in index order. A panic in a job is re-raised on the caller's thread.
+fn on_two_threads<T: Send>(n: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
+    let next = AtomicUsize::new(0);
+    let results: Mutex<Vec<Option<T>>> = Mutex::new((0..n).map(|_| None).collect());
+    let work = || loop {
+        let k = next.fetch_add(1, Ordering::Relaxed);
+        if k >= n {
+            break;
+        }
+        let r = job(k);
+        results.lock().unwrap_or_else(|p| p.into_inner())[k] = Some(r);
+    };
+    std::thread::scope(|s| {
+        s.spawn(work);
+        work();
+    });
+    results
+        .into_inner()
+        .unwrap_or_else(|p| p.into_inner())
+        .into_iter()
+        .map(|r| r.expect("every index was taken by a thread that finished"))
+        .collect()
 }
 
 /// Write the hysteresis figure (`hysteresis.svg`, `.png`) of a run with a run-down into `out_dir`.

@@ -133,3 +133,24 @@ fn stable_run_has_no_onset_marker() {
     assert_eq!(count(&doc, "polyline", "series"), 2);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Every index runs once, on one of two threads, and the results come back in index order.
+#[test]
+fn on_two_threads_returns_every_result_in_index_order() {
+    let threads = std::sync::Mutex::new(std::collections::HashSet::new());
+    let r = super::on_two_threads(40, |k| {
+        threads.lock().unwrap().insert(std::thread::current().id());
+        std::thread::sleep(std::time::Duration::from_millis(1));
+        k * k
+    });
+    assert_eq!(r, (0..40).map(|k| k * k).collect::<Vec<_>>());
+    assert!(threads.lock().unwrap().len() <= 2);
+    assert!(super::on_two_threads(0, |k| k).is_empty());
+}
+
+/// A job's panic reaches the caller.
+#[test]
+fn on_two_threads_passes_a_panic_on() {
+    let r = std::panic::catch_unwind(|| super::on_two_threads(5, |k| assert_ne!(k, 3)));
+    assert!(r.is_err());
+}
