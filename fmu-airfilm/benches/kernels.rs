@@ -3,7 +3,7 @@
 //! pressure field taken from a whirl orbit (eps 0.3, whirl 400 Hz, Omega 1000 Hz). Medians of 41
 //! repeats of 200 calls each. In a run-up the two take ~2/3 of the films' time (residual ~36 %,
 //! solves ~31 % of all CPU samples of a path-1 run-up). Run: cargo bench -p fmu-airfilm --bench kernels
-//! (AIRFILM_MESH=20x3 before it: another mesh per lobe, e.g. a run-up's own).
+//! (AIRFILM_MESH=20x3 before it: another mesh per lobe, e.g. a run-up's own; AIRFILM_GRADING=0.8 grades it).
 
 mod common;
 
@@ -38,6 +38,10 @@ fn main() {
         prm.n_elem_z = z
             .parse()
             .expect("AIRFILM_MESH: elements across the half width");
+    }
+    // A graded mesh, e.g. AIRFILM_MESH=10x3 AIRFILM_GRADING=0.8 (the run-ups' since session 32).
+    if let Ok(g) = std::env::var("AIRFILM_GRADING") {
+        prm.mesh_grading = g.parse().expect("AIRFILM_GRADING: e.g. 0.8");
     }
     let om = 2.0 * PI * 1000.0;
     let orbit = whirl_orbit(&prm, 0.3, 400.0, 1000.0);

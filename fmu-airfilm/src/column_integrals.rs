@@ -40,12 +40,21 @@ impl ColumnIntegrals {
         let mut w_one = vec![0.0; nq];
         for (e, nodes) in mesh.elem.iter().enumerate() {
             let col = mesh.elem_col[e] as usize;
+            // A graded mesh's column has its own Jacobian, and its dP/dxi its own factor to
+            // dP/dphi: folded into the dP/dxi weights relative to the uniform factor 2 / dphi_e
+            // the consumers apply (friction, node functionals).
+            let (jac, to_uniform_xi) = if mesh.graded {
+                let d = mesh.col_dphi[col];
+                (0.25 * d * mesh.dzeta_e, mesh.dphi_e / d)
+            } else {
+                (jac, 1.0)
+            };
             for q in 0..9 {
                 let g = 3 * col + q / 3;
                 let w = b.w[q] * jac;
                 w_one[g] += w;
                 for (a, &node) in nodes.iter().enumerate() {
-                    let (wp, wd) = (w * b.n[q][a], w * b.dx[q][a]);
+                    let (wp, wd) = (w * b.n[q][a], w * b.dx[q][a] * to_uniform_xi);
                     match rows[g].iter_mut().find(|r| r.0 == node) {
                         Some(r) => {
                             r.1 += wp;

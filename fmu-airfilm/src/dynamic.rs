@@ -255,13 +255,16 @@ fn assemble_block(
     let mut r_e = [vec![0.0; npb], vec![0.0; npb]];
     let mut r_v = [vec![0.0; npb], vec![0.0; npb]];
     let b = &mesh.basis;
-    let sx = 2.0 / mesh.dphi_e;
     let sy = 2.0 / mesh.dzeta_e;
-    let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
     let nq = geom.nq;
     let (ex, ey) = (journal.dx_m / prm.bore.c_m, journal.dy_m / prm.bore.c_m);
     for (e, nodes) in mesh.elem.iter().enumerate() {
         let col = mesh.elem_col[e] as usize;
+        // Each column's own size (on a uniform mesh `dphi_e` itself: the same bits).
+        let (sx, jac) = (
+            2.0 / mesh.col_dphi[col],
+            0.25 * mesh.col_dphi[col] * mesh.dzeta_e,
+        );
         let mut pe = [0.0; 9];
         for a in 0..9 {
             pe[a] = pb[nodes[a] as usize];

@@ -95,13 +95,13 @@ pub(crate) fn pressure_force_by_columns_n(
 /// Film gas mass times R T (J): Int p h dA over the full width.
 pub fn mass_times_rt_j(prm: &BearingParams, mesh: &Mesh, gap: &GapField, p: &[f64]) -> f64 {
     let b = &mesh.basis;
-    let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
     let nq = 3 * mesh.ne_phi;
     let mut m = 0.0;
     for k in 0..mesh.n_blocks {
         let pb = &p[k * mesh.npb..(k + 1) * mesh.npb];
         for (e, nodes) in mesh.elem.iter().enumerate() {
             let col = mesh.elem_col[e] as usize;
+            let jac = 0.25 * mesh.col_dphi[col] * mesh.dzeta_e;
             let pq = at_gauss_points(&b.n, nodes, pb);
             for q in 0..9 {
                 m += b.w[q] * jac * pq[q] * gap.h[k * nq + 3 * col + q / 3];
@@ -125,7 +125,8 @@ fn eval(mesh: &Mesh, e: usize, pb: &[f64], xi: f64, eta: f64) -> (f64, f64, f64)
             py += nx[a] * dny[c] * v;
         }
     }
-    (p, px * 2.0 / mesh.dphi_e, py * 2.0 / mesh.dzeta_e)
+    let dphi = mesh.col_dphi[mesh.elem_col[e] as usize];
+    (p, px * 2.0 / dphi, py * 2.0 / mesh.dzeta_e)
 }
 
 /// Gas mass outflow times R T (W) through the film boundary (lobe edges and bearing edges, both
@@ -151,7 +152,8 @@ pub fn mass_outflow_times_rt_w(
                     let s = mesh.gauss_phi(col, q);
                     let hh = gap_m(&prm.bore, k, s, j) / c;
                     let (pq, _, pz) = eval(mesh, e, pb, GAUSS3_X[q], 1.0);
-                    flow += 0.5 * mesh.dphi_e * GAUSS3_W[q] * (-pq * hh.powi(3) * pz);
+                    let dphi = mesh.col_dphi[col];
+                    flow += 0.5 * dphi * GAUSS3_W[q] * (-pq * hh.powi(3) * pz);
                 }
                 if !mesh.periodic && (col == 0 || col == mesh.ne_phi - 1) {
                     let (xi, s, sign) = if col == 0 {

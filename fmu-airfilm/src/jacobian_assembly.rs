@@ -46,22 +46,40 @@ pub(crate) fn jacobian_element_lanes(
     const L: usize = ELEM_LANES;
     lu.zero();
     let b = &mesh.basis;
-    let sx = 2.0 / mesh.dphi_e;
     let sy = 2.0 / mesh.dzeta_e;
-    let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
     let nq = 3 * mesh.ne_phi;
     let (lam, tau, c0) = (co.lambda, co.tau_s, co.c0_per_s);
-    // The physical gradients of the shape functions at the Gauss points (the same products the
-    // per-element loop formed for every element).
-    let mut nxs = [[0.0; 9]; 9];
+    // The physical gradients of the shape functions at the Gauss points per lane (the same
+    // products the per-element loop formed for every element), and the Gauss weights times the
+    // element's Jacobian. On a uniform mesh they are the same in every lane and every group.
+    let scales = |dphi: [f64; L]| -> ([[[f64; L]; 9]; 9], [[f64; L]; 9]) {
+        let sx: [f64; L] = std::array::from_fn(|l| 2.0 / dphi[l]);
+        let nxs = std::array::from_fn(|q| {
+            std::array::from_fn(|a| std::array::from_fn(|l| b.dx[q][a] * sx[l]))
+        });
+        let w = std::array::from_fn(|q| {
+            std::array::from_fn(|l| b.w[q] * (0.25 * dphi[l] * mesh.dzeta_e))
+        });
+        (nxs, w)
+    };
     let mut nys = [[0.0; 9]; 9];
     for q in 0..9 {
         for a in 0..9 {
-            nxs[q][a] = b.dx[q][a] * sx;
             nys[q][a] = b.dy[q][a] * sy;
         }
     }
+    let uniform = (!mesh.graded).then(|| scales([mesh.dphi_e; L]));
     for (e0, used, lane_elem) in element_groups(mesh.elem.len()) {
+        let graded;
+        let (nxs, wq) = match &uniform {
+            Some(u) => (&u.0, &u.1),
+            None => {
+                graded = scales(std::array::from_fn(|l| {
+                    mesh.col_dphi[mesh.elem_col[lane_elem[l]] as usize]
+                }));
+                (&graded.0, &graded.1)
+            }
+        };
         let mut pe = [[0.0; L]; 9];
         for (l, &e) in lane_elem.iter().enumerate() {
             for (a, &node) in mesh.elem[e].iter().enumerate() {
@@ -82,32 +100,32 @@ pub(crate) fn jacobian_element_lanes(
             for a in 0..9 {
                 for l in 0..L {
                     pq[l] += n[a] * pe[a][l];
-                    px[l] += nx[a] * pe[a][l];
+                    px[l] += nx[a][l] * pe[a][l];
                     py[l] += ny[a] * pe[a][l];
                 }
             }
-            let w = b.w[q] * jac;
+            let w = &wq[q];
             let (mut a3, mut lamh, mut cb_flux, mut cb_src) =
                 ([0.0; L], [0.0; L], [0.0; L], [0.0; L]);
             for l in 0..L {
                 let h3 = h[l] * h[l] * h[l];
-                a3[l] = w * pq[l] * h3;
-                lamh[l] = w * lam * h[l];
+                a3[l] = w[l] * pq[l] * h3;
+                lamh[l] = w[l] * lam * h[l];
                 // Coefficient of N_b in row a, and of the gradients of N_b.
-                cb_flux[l] = w * h3;
-                cb_src[l] = w * (lam * hphi[l] + tau * (c0 * h[l] + ht[l]));
+                cb_flux[l] = w[l] * h3;
+                cb_src[l] = w[l] * (lam * hphi[l] + tau * (c0 * h[l] + ht[l]));
             }
             for a in 0..9 {
                 let (mut ca, mut gx, mut gy) = ([0.0; L], [0.0; L], [0.0; L]);
                 for l in 0..L {
-                    ca[l] = cb_flux[l] * (px[l] * nx[a] + py[l] * ny[a]) + cb_src[l] * n[a];
-                    gx[l] = a3[l] * nx[a] + lamh[l] * n[a];
+                    ca[l] = cb_flux[l] * (px[l] * nx[a][l] + py[l] * ny[a]) + cb_src[l] * n[a];
+                    gx[l] = a3[l] * nx[a][l] + lamh[l] * n[a];
                     gy[l] = a3[l] * ny[a];
                 }
                 let row = &mut ke[a];
                 for bb in 0..9 {
                     for l in 0..L {
-                        row[bb][l] += ca[l] * n[bb] + gx[l] * nx[bb] + gy[l] * ny[bb];
+                        row[bb][l] += ca[l] * n[bb] + gx[l] * nx[bb][l] + gy[l] * ny[bb];
                     }
                 }
             }
@@ -142,13 +160,16 @@ pub(crate) fn jacobian_one_element_at_a_time(
 ) {
     lu.zero();
     let b = &mesh.basis;
-    let sx = 2.0 / mesh.dphi_e;
     let sy = 2.0 / mesh.dzeta_e;
-    let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
     let nq = 3 * mesh.ne_phi;
     let (lam, tau, c0) = (co.lambda, co.tau_s, co.c0_per_s);
     for (e, nodes) in mesh.elem.iter().enumerate() {
         let col = mesh.elem_col[e] as usize;
+        // Each column's own size (on a uniform mesh `dphi_e` itself: the same bits).
+        let (sx, jac) = (
+            2.0 / mesh.col_dphi[col],
+            0.25 * mesh.col_dphi[col] * mesh.dzeta_e,
+        );
         let pe = gather(nodes, p);
         let mut ke = [[0.0; 9]; 9];
         for q in 0..9 {
@@ -208,14 +229,22 @@ mod tests {
     #[test]
     fn element_lanes_equal_the_per_element_assembly_bit_for_bit() {
         let mut seed = 0x2545_f491_4f6c_dd1du64;
-        for (case, plain, n_elem_phi) in
-            [(0, false, 20), (1, false, 20), (2, true, 20), (3, false, 7)]
-        {
+        // Cases 4 and 5: graded meshes (a size per lane; 7 columns of 6 elements leave a
+        // partly used last group with lanes of different sizes).
+        for (case, plain, n_elem_phi, grading) in [
+            (0, false, 20, 1.0),
+            (1, false, 20, 1.0),
+            (2, true, 20, 1.0),
+            (3, false, 7, 1.0),
+            (4, false, 10, 0.8),
+            (5, false, 7, 0.6),
+        ] {
             let mut prm = BearingParams::paper();
             if plain {
                 prm.bore.dh_m = 0.0;
             }
             prm.n_elem_phi = n_elem_phi;
+            prm.mesh_grading = grading;
             let mesh = Mesh::new(&prm);
             if case == 3 {
                 assert_ne!(mesh.elem.len() % ELEM_LANES, 0, "a partly used last group");

@@ -79,9 +79,17 @@ pub struct Mesh {
     pub npb: usize,
     pub periodic: bool,
     pub block_phi0_rad: Vec<f64>,
-    /// Element size in phi (rad) and in zeta = z / r.
+    /// Element size in phi (rad) of a uniform mesh (the lobe's span over its elements) and in
+    /// zeta = z / r.
     pub dphi_e: f64,
     pub dzeta_e: f64,
+    /// Each element column's size in phi (rad) and its start (rad from the block start). On a
+    /// uniform mesh every size is `dphi_e`; on a graded one (`BearingParams::mesh_grading` < 1)
+    /// the sizes fall geometrically toward the lobe's trailing edge.
+    pub col_dphi: Vec<f64>,
+    pub col_phi0: Vec<f64>,
+    /// The sizes differ (`col_dphi`); false: every formula takes `dphi_e` as before.
+    pub graded: bool,
     /// Local node numbers of each element (block-local), order `3 * a_phi + a_z`.
     pub elem: Vec<[u32; 9]>,
     /// Element column (index along phi) of each element.
@@ -156,6 +164,28 @@ impl Mesh {
             }
         }
         let n_blocks = p.bore.n_blocks();
+        let span = p.bore.block_span_rad();
+        let dphi_e = span / ne_phi as f64;
+        let graded = !periodic && p.mesh_grading != 1.0;
+        let (col_dphi, col_phi0) = if graded {
+            let raw: Vec<f64> = (0..ne_phi).map(|c| p.mesh_grading.powi(c as i32)).collect();
+            let total: f64 = raw.iter().sum();
+            let sizes: Vec<f64> = raw.iter().map(|r| span * r / total).collect();
+            let starts = sizes
+                .iter()
+                .scan(0.0, |at, d| {
+                    let start = *at;
+                    *at += d;
+                    Some(start)
+                })
+                .collect();
+            (sizes, starts)
+        } else {
+            (
+                vec![dphi_e; ne_phi],
+                (0..ne_phi).map(|c| c as f64 * dphi_e).collect(),
+            )
+        };
         Mesh {
             n_blocks,
             ne_phi,
@@ -165,8 +195,11 @@ impl Mesh {
             npb,
             periodic,
             block_phi0_rad: (0..n_blocks).map(|k| p.bore.block_start_rad(k)).collect(),
-            dphi_e: p.bore.block_span_rad() / ne_phi as f64,
+            dphi_e,
             dzeta_e: 0.5 * p.bore.b_m / p.bore.r_m / ne_z as f64,
+            col_dphi,
+            col_phi0,
+            graded,
             elem,
             elem_col,
             elem_row,
@@ -187,14 +220,26 @@ impl Mesh {
     /// Block-local angle (rad, from the block start) and zeta of a block-local node.
     pub fn node_coords(&self, node: usize) -> (f64, f64) {
         (
-            self.node_line[node] as f64 * 0.5 * self.dphi_e,
+            self.line_phi(self.node_line[node] as usize),
             self.node_j[node] as f64 * 0.5 * self.dzeta_e,
         )
     }
 
+    /// Block-local angle of phi-line `i` (2 per element column, the last line at the span).
+    pub fn line_phi(&self, i: usize) -> f64 {
+        if !self.graded {
+            return i as f64 * 0.5 * self.dphi_e;
+        }
+        let col = (i / 2).min(self.ne_phi - 1);
+        self.col_phi0[col] + (i - 2 * col) as f64 * 0.5 * self.col_dphi[col]
+    }
+
     /// Block-local angle of the Gauss point `qa` of element column `col`.
     pub fn gauss_phi(&self, col: usize, qa: usize) -> f64 {
-        (col as f64 + 0.5 * (1.0 + GAUSS3_X[qa])) * self.dphi_e
+        if !self.graded {
+            return (col as f64 + 0.5 * (1.0 + GAUSS3_X[qa])) * self.dphi_e;
+        }
+        self.col_phi0[col] + 0.5 * (1.0 + GAUSS3_X[qa]) * self.col_dphi[col]
     }
 }
 
@@ -229,6 +274,44 @@ pub(crate) fn at_gauss_points(shape: &[[f64; 9]; 9], nodes: &[u32; 9], pb: &[f64
 mod tests {
     use super::*;
     use crate::test_rng::symmetric;
+
+    /// A graded mesh's columns shrink by the grading from one to the next and fill the lobe;
+    /// node lines and Gauss points run in order inside their columns; a uniform mesh and a plain
+    /// bore keep `dphi_e` everywhere.
+    #[test]
+    fn graded_columns_shrink_by_the_grading_and_fill_the_lobe() {
+        let mut p = BearingParams::paper();
+        p.n_elem_phi = 10;
+        p.mesh_grading = 0.8;
+        let m = Mesh::new(&p);
+        let span = p.bore.block_span_rad();
+        assert!(m.graded);
+        let total: f64 = m.col_dphi.iter().sum();
+        assert!((total - span).abs() < 1e-14 * span);
+        for c in 1..10 {
+            assert!((m.col_dphi[c] / m.col_dphi[c - 1] - 0.8).abs() < 1e-12);
+            assert!((m.col_phi0[c] - m.col_phi0[c - 1] - m.col_dphi[c - 1]).abs() < 1e-15);
+        }
+        assert!((m.line_phi(2 * 10) - span).abs() < 1e-14 * span);
+        for i in 1..=20 {
+            assert!(m.line_phi(i) > m.line_phi(i - 1), "line {i}");
+        }
+        for c in 0..10 {
+            for q in 0..3 {
+                let g = m.gauss_phi(c, q);
+                assert!(g > m.line_phi(2 * c) && g < m.line_phi(2 * c + 2));
+            }
+        }
+        p.mesh_grading = 1.0;
+        let u = Mesh::new(&p);
+        assert!(!u.graded && u.col_dphi.iter().all(|d| *d == u.dphi_e));
+        let mut plain = BearingParams::plain_bore();
+        plain.mesh_grading = 0.8;
+        assert!(
+            !Mesh::new(&plain).graded,
+            "a plain bore is periodic: never graded"
+        );
+    }
 
     /// The lanes over Gauss points give the loop per Gauss point's values to the bit, for the
     /// shape functions and their derivative, on every element of the paper mesh with random

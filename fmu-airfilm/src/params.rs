@@ -20,6 +20,12 @@ pub struct BearingParams {
     pub n_elem_phi: usize,
     /// Elements across the half width.
     pub n_elem_z: usize,
+    /// Each element along a lobe is this many times as long as the one before it: 1 is a uniform
+    /// mesh, below 1 the elements shrink geometrically toward the lobe's trailing edge, where the
+    /// film is thinnest and the pressure falls to ambient in a thin layer (docs/convergence.md,
+    /// "Where the mesh error along the lobe sits"). A plain bore's mesh is always uniform.
+    #[serde(default = "uniform_grading")]
+    pub mesh_grading: f64,
     /// Add the contact force to the film force output (false when the rotor model evaluates
     /// the contact itself, implicitly inside its own steps; see docs/fmu-guide.md).
     pub contact_in_force: bool,
@@ -47,6 +53,7 @@ impl BearingParams {
             p_a_pa: 101_325.0,
             n_elem_phi: 20,
             n_elem_z: 6,
+            mesh_grading: 1.0,
             contact_in_force: true,
             rtol: 1e-4,
             atol_pa: 10.0,
@@ -140,6 +147,13 @@ impl BearingParams {
                 "mesh too coarse (>= 2 across the half width)",
             );
         }
+        if !(MIN_MESH_GRADING..=1.0).contains(&self.mesh_grading) {
+            return bad(
+                "mesh_grading",
+                self.mesh_grading,
+                "must lie between 0.5 and 1 (1: uniform; below 1 finer toward each lobe's trailing edge)",
+            );
+        }
         if self.n_elem_phi > 2000 || self.n_elem_z > 2000 {
             return bad(
                 "n_elem_phi",
@@ -190,6 +204,13 @@ impl BearingParams {
         Ok(())
     }
 }
+
+fn uniform_grading() -> f64 {
+    1.0
+}
+
+/// The strongest grading along a lobe: the last of 10 elements is then ~0.13 of the first.
+pub const MIN_MESH_GRADING: f64 = 0.5;
 
 impl Default for BearingParams {
     fn default() -> Self {

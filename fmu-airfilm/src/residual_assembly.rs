@@ -43,13 +43,25 @@ pub(crate) fn residual_element_lanes(
     const L: usize = ELEM_LANES;
     out.iter_mut().for_each(|v| *v = 0.0);
     let (n1, d1) = one_d_tables();
-    let sx = 2.0 / mesh.dphi_e;
     let sy = 2.0 / mesh.dzeta_e;
-    let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
-    let wj: [f64; 9] = std::array::from_fn(|q| mesh.basis.w[q] * jac);
     let nq = 3 * mesh.ne_phi;
     let (lam, tau, c0) = (co.lambda, co.tau_s, co.c0_per_s);
+    // Per lane: d xi / d phi and the Gauss weights times the element's Jacobian (on a uniform
+    // mesh the same in every lane, computed as the uniform formulas did: the same bits).
+    let lane_scales = |lane_elem: &[usize; L]| -> ([f64; L], [[f64; L]; 9]) {
+        let dphi: [f64; L] = if mesh.graded {
+            std::array::from_fn(|l| mesh.col_dphi[mesh.elem_col[lane_elem[l]] as usize])
+        } else {
+            [mesh.dphi_e; L]
+        };
+        let sx = std::array::from_fn(|l| 2.0 / dphi[l]);
+        let wj = std::array::from_fn(|q| {
+            std::array::from_fn(|l| mesh.basis.w[q] * (0.25 * dphi[l] * mesh.dzeta_e))
+        });
+        (sx, wj)
+    };
     for (e0, used, lane_elem) in element_groups(mesh.elem.len()) {
+        let (sx, wj) = lane_scales(&lane_elem);
         let mut pe = [[0.0; L]; 9];
         let mut pd = [[0.0; L]; 9];
         for (l, &e) in lane_elem.iter().enumerate() {
@@ -96,19 +108,19 @@ pub(crate) fn residual_element_lanes(
                         pt[l] += nv * u_t[ap][qz][l];
                     }
                 }
-                let w = wj[q];
+                let w = &wj[q];
                 for l in 0..L {
-                    let (pxq, pyq) = (px[l] * sx, py[l] * sy);
+                    let (pxq, pyq) = (px[l] * sx[l], py[l] * sy);
                     let a3 = pq[l] * h[l] * h[l] * h[l];
-                    fx[q][l] = w * a3 * pxq * sx;
-                    fy[q][l] = w * a3 * pyq * sy;
+                    fx[q][l] = w[l] * a3 * pxq * sx[l];
+                    fy[q][l] = w[l] * a3 * pyq * sy;
                     let src =
                         lam * (pxq * h[l] + pq[l] * hphi[l]) + tau * (h[l] * pt[l] + pq[l] * ht[l]);
-                    fs[q][l] = w * src;
+                    fs[q][l] = w[l] * src;
                 }
                 if let Some(s) = source {
                     for l in 0..L {
-                        fs[q][l] -= w * s[lane_elem[l] * 9 + q];
+                        fs[q][l] -= w[l] * s[lane_elem[l] * 9 + q];
                     }
                 }
             }

@@ -133,13 +133,16 @@ pub(crate) fn residual_scalar_reference(
 ) {
     out.iter_mut().for_each(|v| *v = 0.0);
     let b = &mesh.basis;
-    let sx = 2.0 / mesh.dphi_e;
     let sy = 2.0 / mesh.dzeta_e;
-    let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
     let nq = 3 * mesh.ne_phi;
     let (lam, tau, c0) = (co.lambda, co.tau_s, co.c0_per_s);
     for (e, nodes) in mesh.elem.iter().enumerate() {
         let col = mesh.elem_col[e] as usize;
+        // Each column's own size (on a uniform mesh `dphi_e` itself: the same bits).
+        let (sx, jac) = (
+            2.0 / mesh.col_dphi[col],
+            0.25 * mesh.col_dphi[col] * mesh.dzeta_e,
+        );
         let pe = gather(nodes, p);
         let he = gather(nodes, hist);
         let mut pd = [0.0; 9];
@@ -199,14 +202,22 @@ mod tests {
     #[test]
     fn residual_equals_the_scalar_formulation() {
         let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        for (case, plain, n_elem_phi) in
-            [(0, false, 20), (1, false, 20), (2, true, 20), (3, false, 7)]
-        {
+        // Cases 4 and 5: graded meshes (a size per lane; 7 columns of 6 elements leave a
+        // partly used last group with lanes of different sizes).
+        for (case, plain, n_elem_phi, grading) in [
+            (0, false, 20, 1.0),
+            (1, false, 20, 1.0),
+            (2, true, 20, 1.0),
+            (3, false, 7, 1.0),
+            (4, false, 10, 0.8),
+            (5, false, 7, 0.6),
+        ] {
             let mut prm = BearingParams::paper();
             if plain {
                 prm.bore.dh_m = 0.0;
             }
             prm.n_elem_phi = n_elem_phi;
+            prm.mesh_grading = grading;
             let mesh = Mesh::new(&prm);
             let geom = Geometry::new(&prm, &mesh);
             let c = prm.bore.c_m;

@@ -35,6 +35,7 @@ pub mod vr {
     pub const F_CONTACT: u32 = 23;
     pub const FRICTION_TORQUE: u32 = 24;
     pub const POWER_LOSS: u32 = 25;
+    pub const MESH_GRADING: u32 = 26;
     /// Integer value references.
     pub const N_LOBES: u32 = 0;
     pub const N_ELEM_PHI: u32 = 1;
@@ -143,6 +144,7 @@ pub fn params_from(store: &Store) -> BearingParams {
     p.bore.n_lobes = store.integer(vr::N_LOBES).max(0) as usize;
     p.n_elem_phi = store.integer(vr::N_ELEM_PHI).max(0) as usize;
     p.n_elem_z = store.integer(vr::N_ELEM_Z).max(0) as usize;
+    p.mesh_grading = store.real(vr::MESH_GRADING);
     p.bore.plain_bore = store.boolean(vr::PLAIN_BORE);
     p.contact_in_force = store.boolean(vr::CONTACT_IN_FORCE);
     p
@@ -200,6 +202,8 @@ impl Model for AirFilmFmu {
                     .range(Some(4.0), Some(2000.0)),
                 V::integer_parameter("n_elem_z", vr::N_ELEM_Z, p.n_elem_z as i32, "elements across the half width (paper: 6)")
                     .range(Some(2.0), Some(500.0)),
+                V::real_parameter("mesh_grading", vr::MESH_GRADING, p.mesh_grading, "1", "each element along a lobe is this many times as long as the one before it: 1 uniform (paper), below 1 finer toward the lobe's trailing edge, where the pressure falls to ambient in a thin layer; a plain bore's mesh is always uniform")
+                    .range(Some(crate::params::MIN_MESH_GRADING), Some(1.0)),
                 V::integer_output("n_substeps", vr::N_SUBSTEPS, "accepted internal sub-steps so far"),
                 V::integer_output("n_newton", vr::N_NEWTON, "Newton iterations so far"),
                 V::integer_output("n_jacobians", vr::N_JACOBIANS, "Jacobian evaluations and factorizations so far"),

@@ -41,7 +41,7 @@ pub fn manufactured_l2_error(
         for e in 0..ne {
             let (c, r) = (mesh.elem_col[e] as f64, mesh.elem_row[e] as f64);
             for q in 0..9 {
-                let phi = phi0 + (c + 0.5 * (1.0 + GAUSS3_X[q / 3])) * mesh.dphi_e;
+                let phi = phi0 + mesh.gauss_phi(c as usize, q / 3);
                 let zeta = (r + 0.5 * (1.0 + GAUSS3_X[q % 3])) * mesh.dzeta_e;
                 src[(k * ne + e) * 9 + q] = source(phi, zeta);
             }
@@ -56,11 +56,12 @@ pub fn manufactured_l2_error(
     let sol = steady_from(params, mesh, journal, p0, Some(&src))?;
     let mesh = &sol.mesh;
     let (mut e2, mut n2) = (0.0, 0.0);
-    let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
     for k in 0..mesh.n_blocks {
         let pb = &sol.p_rel[k * mesh.npb..(k + 1) * mesh.npb];
         for e in 0..ne {
             let (c, r) = (mesh.elem_col[e] as f64, mesh.elem_row[e] as f64);
+            let (col0, dphi) = (mesh.col_phi0[c as usize], mesh.col_dphi[c as usize]);
+            let jac = 0.25 * dphi * mesh.dzeta_e;
             for (qa, xa) in G5_X.iter().enumerate() {
                 for (qb, xb) in G5_X.iter().enumerate() {
                     let (na, _) = shape1(*xa);
@@ -71,7 +72,7 @@ pub fn manufactured_l2_error(
                             ph += na[a] * nb[b] * pb[mesh.elem[e][3 * a + b] as usize];
                         }
                     }
-                    let phi = mesh.block_phi0_rad[k] + (c + 0.5 * (1.0 + xa)) * mesh.dphi_e;
+                    let phi = mesh.block_phi0_rad[k] + col0 + 0.5 * (1.0 + xa) * dphi;
                     let zeta = (r + 0.5 * (1.0 + xb)) * mesh.dzeta_e;
                     let ex = exact(phi, zeta);
                     let w = G5_W[qa] * G5_W[qb] * jac;

@@ -50,6 +50,7 @@ fn interface_names_fixed_by_the_spec_exist() {
         "n_lobes",
         "n_elem_phi",
         "n_elem_z",
+        "mesh_grading",
         "h_con_rel",
         "c_con",
     ] {
