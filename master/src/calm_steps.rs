@@ -64,6 +64,9 @@ pub fn plan(s: &RunupSettings, cache: Option<&LinearCache>) -> CalmPlan {
     let t0 = std::time::Instant::now();
     let mut coarse = s.clone();
     (coarse.n_elem_phi, coarse.n_elem_z) = crate::sweep_linear::DEFAULT_MESH;
+    // The predictions' mesh is uniform: a run-up's graded one would give other film parameters,
+    // whose analyses no prediction shares (and the linear analysis does not need it).
+    coarse.mesh_grading = 1.0;
     let params = params_of(&coarse).and_then(|(rotor, films)| {
         if rotor.c_c_n_m > 0.0 && rotor.c_t_n_m > 0.0 {
             Ok((rotor, films))

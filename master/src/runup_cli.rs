@@ -265,40 +265,47 @@ mod tests {
     /// --mesh, or a film's n_elem_phi / n_elem_z through --set, is the user's mesh and stays.
     #[test]
     fn run_up_chooses_the_film_mesh_by_the_largest_bearing_number() {
-        assert_eq!(crate::runup::film_mesh_for(8.8), (16, 3));
-        assert_eq!(crate::runup::film_mesh_for(20.0), (16, 3));
-        assert_eq!(crate::runup::film_mesh_for(20.01), (20, 4));
-        assert_eq!(crate::runup::film_mesh_for(40.0), (20, 4));
-        assert_eq!(crate::runup::film_mesh_for(40.01), (20, 6));
-        assert_eq!(crate::runup::film_mesh_for(f64::NAN), (20, 6));
+        let g = crate::runup::GRADED_MESH_GRADING;
+        assert_eq!(crate::runup::film_mesh_for(8.8), (10, 3, g));
+        assert_eq!(crate::runup::film_mesh_for(20.0), (10, 3, g));
+        assert_eq!(crate::runup::film_mesh_for(20.01), (20, 4, 1.0));
+        assert_eq!(crate::runup::film_mesh_for(40.0), (20, 4, 1.0));
+        assert_eq!(crate::runup::film_mesh_for(40.01), (20, 6, 1.0));
+        assert_eq!(crate::runup::film_mesh_for(f64::NAN), (20, 6, 1.0));
 
-        let cases: [(&[&str], (u32, u32), f64); 7] = [
-            (&[], (16, 3), lambda(20.0, 2000.0)),
-            (&["--stop", "0.1"], (16, 3), lambda(20.0, 2000.0)),
-            (&["--clearance", "10"], (20, 4), lambda(10.0, 2000.0)),
-            (&["--clearance", "5"], (20, 6), lambda(5.0, 2000.0)),
+        // (flags, (along, across, grading), largest bearing number)
+        type Case<'a> = (&'a [&'a str], (u32, u32, f64), f64);
+        let cases: [Case; 7] = [
+            (&[], (10, 3, g), lambda(20.0, 2000.0)),
+            (&["--stop", "0.1"], (10, 3, g), lambda(20.0, 2000.0)),
+            (&["--clearance", "10"], (20, 4, 1.0), lambda(10.0, 2000.0)),
+            (&["--clearance", "5"], (20, 6, 1.0), lambda(5.0, 2000.0)),
             // The smaller clearance of the two films decides (C 20 / 10 um).
             (
                 &["--set", "film_T.C=10 um", "--contact", "film"],
-                (20, 4),
+                (20, 4, 1.0),
                 lambda(10.0, 2000.0),
             ),
             // A profile's highest speed, not its last: 3000 Hz at 1 s.
             (
                 &["--profile", "0:0,1:3000,2:0", "--clearance", "13"],
-                (20, 4),
+                (20, 4, 1.0),
                 lambda(13.0, 3000.0),
             ),
             // The rotor's speed as its FMU gets it, a --set included.
             (
                 &["--set", "rotor.f_max=5000 Hz"],
-                (20, 4),
+                (20, 4, 1.0),
                 lambda(20.0, 5000.0),
             ),
         ];
         for (flags, mesh, expected_lambda) in cases {
             let s = settings_of(flags);
-            assert_eq!((s.n_elem_phi, s.n_elem_z), mesh, "{flags:?}");
+            assert_eq!(
+                (s.n_elem_phi, s.n_elem_z, s.mesh_grading),
+                mesh,
+                "{flags:?}"
+            );
             let got = s.film_mesh_bearing_number.unwrap();
             assert!(
                 close(got, expected_lambda),
@@ -307,16 +314,27 @@ mod tests {
             // The films get that mesh.
             for f in s.film_params().unwrap() {
                 assert_eq!(
-                    (f.n_elem_phi, f.n_elem_z),
-                    (mesh.0 as usize, mesh.1 as usize),
+                    (f.n_elem_phi, f.n_elem_z, f.mesh_grading),
+                    (mesh.0 as usize, mesh.1 as usize, mesh.2),
                     "{flags:?}"
                 );
             }
         }
 
+        // --mesh is a uniform mesh; a grading comes with --set film.mesh_grading.
         let s = settings_of(&["--mesh", "20x6", "--clearance", "10"]);
-        assert_eq!((s.n_elem_phi, s.n_elem_z), (20, 6));
+        assert_eq!((s.n_elem_phi, s.n_elem_z, s.mesh_grading), (20, 6, 1.0));
         assert_eq!(s.film_mesh_bearing_number, None);
+        let s = settings_of(&["--mesh", "16x3"]);
+        for f in s.film_params().unwrap() {
+            assert_eq!((f.n_elem_phi, f.n_elem_z, f.mesh_grading), (16, 3, 1.0));
+        }
+        let s = settings_of(&["--mesh", "12x3", "--set", "film.mesh_grading=0.7"]);
+        for f in s.film_params().unwrap() {
+            assert_eq!((f.n_elem_phi, f.n_elem_z, f.mesh_grading), (12, 3, 0.7));
+        }
+        let e = refusal(&["--set", "film.mesh_grading=0.3"]);
+        assert!(e.contains("mesh_grading"), "{e}");
         let s = settings_of(&["--set", "film.n_elem_z=5"]);
         assert_eq!(s.film_mesh_bearing_number, None);
         for f in s.film_params().unwrap() {
@@ -332,8 +350,10 @@ mod tests {
     fn the_first_line_states_the_films_mesh_and_tolerance() {
         let line = crate::runup::describe_film_mesh(&settings_of(&[])).unwrap();
         assert!(
-            line.starts_with("film mesh 16 x 3 per lobe (for the largest bearing number 8.8")
-                && line.ends_with(", film tolerance 1e-3 / 100 Pa"),
+            line.starts_with(
+                "film mesh 10 x 3 graded by 0.8 toward the trailing edge per lobe (for the \
+                 largest bearing number 8.8"
+            ) && line.ends_with(", film tolerance 1e-3 / 100 Pa"),
             "{line}"
         );
         let s = settings_of(&["--mesh", "20x6", "--set", "film_T.rtol=1e-4"]);

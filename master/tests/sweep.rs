@@ -181,17 +181,25 @@ fn smoke_study_runs_resumes_and_shards_merge() {
     let (ok, err) = airring(&["sweep", "studies/smoke.toml", "--out", full_s]);
     assert!(ok, "{err}");
     assert!(err.contains("3 already completed, 1 to run"), "{err}");
-    // So does one made with another film-mesh rule (session 30's 20 x 3 up to bearing number 20;
-    // until session 31 the rule was no part of the recorded defaults, and such runs were kept).
+    // So does one made with another film-mesh rule (session 31's 16 x 3 uniform up to bearing
+    // number 20, recorded without a grading; until session 31 the rule was no part of the
+    // recorded defaults, and such runs were kept).
     let mut meta: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&meta_path).unwrap()).unwrap();
+    let g = master::runup::GRADED_MESH_GRADING;
     assert_eq!(
         meta["defaults"]["film_mesh_rule"],
-        serde_json::json!([[16, 3], [16, 3], [20, 4], [20, 4], [20, 6]]),
+        serde_json::json!([
+            [10, 3, g],
+            [10, 3, g],
+            [20, 4, 1.0],
+            [20, 4, 1.0],
+            [20, 6, 1.0]
+        ]),
         "{meta}"
     );
     meta["defaults"]["film_mesh_rule"] =
-        serde_json::json!([[20, 3], [20, 3], [20, 4], [20, 4], [20, 6]]);
+        serde_json::json!([[16, 3], [16, 3], [20, 4], [20, 4], [20, 6]]);
     std::fs::write(&meta_path, meta.to_string()).unwrap();
     let (ok, err) = airring(&["sweep", "studies/smoke.toml", "--out", full_s]);
     assert!(ok, "{err}");

@@ -125,7 +125,7 @@ pub fn defaults_of(args: &BTreeMap<String, String>) -> serde_json::Value {
     // preset's settings: recorded as the rule's choice across its range, so that a run made
     // with another rule (20 x 3 before session 31, 20 x 6 before session 28) runs again.
     if let Some(map) = defaults.as_object_mut() {
-        let rule: Vec<(u32, u32)> = FILM_MESH_RULE_SAMPLES
+        let rule: Vec<(u32, u32, f64)> = FILM_MESH_RULE_SAMPLES
             .iter()
             .map(|&lambda| crate::runup::film_mesh_for(lambda))
             .collect();
