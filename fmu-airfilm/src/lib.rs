@@ -19,6 +19,8 @@ pub mod friction;
 pub mod geometry;
 pub mod integrator;
 mod jacobian_assembly;
+#[cfg(test)]
+mod lane_test_cases;
 pub mod linsolve;
 pub mod mesh;
 pub mod node_functionals;

@@ -190,10 +190,8 @@ pub(crate) fn residual_scalar_reference(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::geometry::Geometry;
-    use crate::params::BearingParams;
+    use crate::lane_test_cases::{lane_cases, LaneCase};
     use crate::test_rng::uniform;
-    use crate::JournalState;
 
     /// The sum-factorized element lanes compute what the scalar formulation does: on random
     /// pressures, histories, sources and journal states (plain and lobed bores, every block, a
@@ -202,43 +200,13 @@ mod tests {
     #[test]
     fn residual_equals_the_scalar_formulation() {
         let mut seed = 0x9e37_79b9_7f4a_7c15u64;
-        // Cases 4 and 5: graded meshes (a size per lane; 7 columns of 6 elements leave a
-        // partly used last group with lanes of different sizes).
-        for (case, plain, n_elem_phi, grading) in [
-            (0, false, 20, 1.0),
-            (1, false, 20, 1.0),
-            (2, true, 20, 1.0),
-            (3, false, 7, 1.0),
-            (4, false, 10, 0.8),
-            (5, false, 7, 0.6),
-        ] {
-            let mut prm = BearingParams::paper();
-            if plain {
-                prm.bore.dh_m = 0.0;
-            }
-            prm.n_elem_phi = n_elem_phi;
-            prm.mesh_grading = grading;
-            let mesh = Mesh::new(&prm);
-            let geom = Geometry::new(&prm, &mesh);
-            let c = prm.bore.c_m;
-            let j = JournalState {
-                dx_m: (uniform(&mut seed) - 0.5) * c,
-                dy_m: (uniform(&mut seed) - 0.5) * c,
-                vx_m_s: (uniform(&mut seed) - 0.5) * 0.1,
-                vy_m_s: (uniform(&mut seed) - 0.5) * 0.1,
-                omega_rad_s: 6000.0 * uniform(&mut seed),
-            };
-            let mut gap = GapField::default();
-            geom.update(&j, c, &mut gap);
-            let co = Coeffs {
-                lambda: prm.bearing_number(j.omega_rad_s),
-                tau_s: prm.squeeze_time_s(),
-                c0_per_s: if case == 1 {
-                    0.0
-                } else {
-                    1e5 * uniform(&mut seed)
-                },
-            };
+        for LaneCase {
+            case,
+            mesh,
+            gap,
+            co,
+        } in lane_cases(&mut seed)
+        {
             let npb = mesh.npb;
             let src: Vec<f64> = (0..mesh.elem.len() * 9)
                 .map(|_| uniform(&mut seed) - 0.5)
