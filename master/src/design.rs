@@ -53,9 +53,10 @@ pub struct DesignArgs {
     /// Step height dH [um] (both bearings).
     #[arg(long)]
     pub dh: Option<f64>,
-    /// Air-film mesh per lobe, e.g. 20x6 (elements along the lobe x across the half width).
-    /// Default: the paper's 20x6; a run-up without it takes 20x3, 20x4 or 20x6 by the largest
-    /// bearing number of its films (docs/convergence.md, "Film mesh across the width").
+    /// Air-film mesh per lobe, uniform, e.g. 20x6 (elements along the lobe x across the half
+    /// width; --set film.mesh_grading=G grades it toward each lobe's trailing edge). Default: the
+    /// paper's 20x6; a run-up without it takes 10x3 graded by 0.8, 20x4 or 20x6 by the largest
+    /// bearing number of its films (docs/convergence.md, "A graded film mesh along the lobe").
     #[arg(long)]
     pub mesh: Option<String>,
     /// Any other FMU parameter, repeatable: PREFIX.NAME=VALUE with PREFIX rotor, film (both
