@@ -39,6 +39,7 @@ pub fn mass_times(m_blocks: &[[f64; 36]], x: &[f64], y: &mut [f64]) {
 }
 
 /// Scratch buffers reused by residual evaluations (not part of the state).
+#[derive(Debug)]
 pub struct Work {
     pub m_blocks: Vec<[f64; 36]>,
     pub f: Vec<f64>,

@@ -119,6 +119,77 @@ struct JacCache {
     constrained_mass: Option<Arc<Lu>>,
 }
 
+/// `advance_to`'s working vectors, kept between its calls: a run-up calls it ~54 000 times, and
+/// making them anew each time (ten vectors, and one more per step for the error weights and the
+/// accepted state) was ~8 % of the rotor's CPU samples in a path-1 run-up (2026-12-06). Not
+/// part of the state: a clone (a master's roll-back copy before every macro step) or a restored
+/// state starts without them, and `advance_to` resets them to what new vectors held (zeros, an
+/// empty contact memo), so the results are the same bits.
+#[derive(Debug, Default)]
+struct AdvanceScratch(Option<Box<AdvanceBuffers>>);
+
+impl Clone for AdvanceScratch {
+    fn clone(&self) -> Self {
+        AdvanceScratch(None)
+    }
+}
+
+#[derive(Debug)]
+struct AdvanceBuffers {
+    work: Work,
+    u: Vec<f64>,
+    w: Vec<f64>,
+    r: Vec<f64>,
+    psi: Vec<f64>,
+    yp: Vec<f64>,
+    /// The error weights of the current step ([`GglBdf::weights_into`]).
+    wt: Vec<f64>,
+}
+
+impl AdvanceBuffers {
+    fn new(n_bodies: usize, n_inputs: usize, ny: usize, nw: usize) -> AdvanceBuffers {
+        AdvanceBuffers {
+            work: Work::new(n_bodies),
+            u: vec![0.0; n_inputs],
+            w: vec![0.0; nw],
+            r: vec![0.0; nw],
+            psi: vec![0.0; ny],
+            yp: vec![0.0; ny],
+            wt: vec![0.0; ny],
+        }
+    }
+
+    /// Back to what [`AdvanceBuffers::new`] gives, without allocating.
+    fn reset(&mut self) {
+        let AdvanceBuffers {
+            work,
+            u,
+            w,
+            r,
+            psi,
+            yp,
+            wt,
+        } = self;
+        for m in &mut work.m_blocks {
+            m.fill(0.0);
+        }
+        for v in [
+            &mut work.f,
+            &mut work.tmp,
+            &mut work.tmp2,
+            u,
+            w,
+            r,
+            psi,
+            yp,
+            wt,
+        ] {
+            v.fill(0.0);
+        }
+        work.contacts.clear();
+    }
+}
+
 /// The integrator together with the system it integrates.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct GglBdf {
@@ -154,6 +225,9 @@ pub struct GglBdf {
     drift_pos: f64,
     drift_vel: f64,
     pub totals: StepStats,
+    /// `advance_to`'s working vectors, kept between its calls (not part of the state).
+    #[serde(skip)]
+    scratch: AdvanceScratch,
     /// The last step's weighted local error estimate (the tests compare it with the true error).
     #[cfg(test)]
     #[serde(skip)]
@@ -223,6 +297,7 @@ impl GglBdf {
             drift_pos: 0.0,
             drift_vel: 0.0,
             totals: StepStats::default(),
+            scratch: AdvanceScratch::default(),
             #[cfg(test)]
             last_error_estimate: 0.0,
             sys,
@@ -275,20 +350,17 @@ impl GglBdf {
         self.drift_vel = dv;
     }
 
-    fn weights(&self) -> Vec<f64> {
+    /// The error weights 1 / (atol + rtol |y_i|) into `wt`.
+    fn weights_into(&self, wt: &mut [f64]) {
         let nq = self.sys.n_coords();
-        self.y
-            .iter()
-            .enumerate()
-            .map(|(i, yi)| {
-                let atol = if i < nq {
-                    self.tol.atol_pos
-                } else {
-                    self.tol.atol_vel
-                };
-                1.0 / (atol + self.tol.rtol * yi.abs())
-            })
-            .collect()
+        for (i, (w, yi)) in wt.iter_mut().zip(&self.y).enumerate() {
+            let atol = if i < nq {
+                self.tol.atol_pos
+            } else {
+                self.tol.atol_vel
+            };
+            *w = 1.0 / (atol + self.tol.rtol * yi.abs());
+        }
     }
 
     fn wnorm(&self, d: &[f64], wt: &[f64]) -> f64 {
@@ -441,29 +513,58 @@ impl GglBdf {
         t_end: f64,
         inputs: &mut InputFn,
     ) -> Result<StepStats, RotorError> {
+        let ny = 2 * self.sys.n_coords();
+        let nw = ny + 2 * self.sys.n_constraints();
+        let mut buffers = match self.scratch.0.take() {
+            Some(mut b) => {
+                b.reset();
+                b
+            }
+            None => Box::new(AdvanceBuffers::new(
+                self.sys.bodies.len(),
+                self.n_inputs,
+                ny,
+                nw,
+            )),
+        };
+        let result = self.advance_with(t_end, inputs, &mut buffers);
+        self.scratch.0 = Some(buffers);
+        result
+    }
+
+    /// [`GglBdf::advance_to`] with its working vectors.
+    fn advance_with(
+        &mut self,
+        t_end: f64,
+        inputs: &mut InputFn,
+        buffers: &mut AdvanceBuffers,
+    ) -> Result<StepStats, RotorError> {
         let mut stats = StepStats::default();
         let nq = self.sys.n_coords();
         let nc = self.sys.n_constraints();
         let ny = 2 * nq;
         let nw = ny + 2 * nc;
-        let mut work = Work::new(self.sys.bodies.len());
-        let mut u = vec![0.0; self.n_inputs];
-        let mut w = vec![0.0; nw];
-        let mut r = vec![0.0; nw];
-        let mut psi = vec![0.0; ny];
-        let mut yp = vec![0.0; ny];
+        let AdvanceBuffers {
+            work,
+            u,
+            w,
+            r,
+            psi,
+            yp,
+            wt,
+        } = buffers;
         if self.prev.is_none() && self.t < t_end {
             // First step ever: the inputs at t0 are only known now; start from the consistent
             // accelerations they imply, so the order-1 predictor is consistent.
-            inputs(self.t, &mut u)?;
+            inputs(self.t, u)?;
             let (x, v) = self.y.split_at(nq);
             let (a0, lam) =
-                ggl::consistent_acceleration(&self.sys, &self.g_mat, self.t, x, v, &u, &mut work)?;
+                ggl::consistent_acceleration(&self.sys, &self.g_mat, self.t, x, v, &u, work)?;
             self.yd[nq..].copy_from_slice(&a0);
             self.lam = lam;
         } else if self.prev.is_some() && self.t < t_end {
-            inputs(self.t, &mut u)?;
-            self.take_input_jump_into_history(&u, &mut work)?;
+            inputs(self.t, u)?;
+            self.take_input_jump_into_history(&u, work)?;
         }
         // A budget of internal steps per call: a pathological parameter set (a tiny mass under a
         // large force) must end in a StepFailure (fmi2Discard) instead of running for hours. Long
@@ -538,9 +639,9 @@ impl GglBdf {
                     }
                 }
                 let beta_h = beta * h;
-                inputs(t1, &mut u)?;
+                inputs(t1, u)?;
                 if self.jac.is_none() {
-                    self.refresh_jacobian(&mut work, &mut stats);
+                    self.refresh_jacobian(work, &mut stats);
                     jac_fresh = true;
                 }
                 self.ensure_matrix(beta_h, &mut stats)?;
@@ -550,28 +651,18 @@ impl GglBdf {
                     w[ny + i] = beta_h * self.mu[i];
                     w[ny + nc + i] = beta_h * self.lam[i];
                 }
-                let wt = self.weights();
+                self.weights_into(wt);
                 let mut converged = false;
                 let mut nrm0 = 0.0;
                 let mut iters_this = 0;
                 for m in 0..NEWTON_MAX_IT {
-                    ggl::residual(
-                        &self.sys,
-                        &self.g_mat,
-                        t1,
-                        &w,
-                        &psi,
-                        beta_h,
-                        &u,
-                        &mut work,
-                        &mut r,
-                    );
-                    self.lu.as_ref().expect("factored").solve(&mut r);
+                    ggl::residual(&self.sys, &self.g_mat, t1, &w, &psi, beta_h, &u, work, r);
+                    self.lu.as_ref().expect("factored").solve(r);
                     for i in 0..nw {
                         w[i] -= r[i];
                     }
                     iters_this += 1;
-                    let nrm = self.wnorm(&r[..ny], &wt);
+                    let nrm = self.wnorm(&r[..ny], wt);
                     if !nrm.is_finite() {
                         break;
                     }
@@ -613,7 +704,7 @@ impl GglBdf {
                     r[i] = k_err * (w[i] - yp[i]);
                 }
                 let err = if self.tol.error_control {
-                    self.wnorm(&r[..ny], &wt)
+                    self.wnorm(&r[..ny], wt)
                 } else {
                     0.0
                 };
@@ -634,7 +725,13 @@ impl GglBdf {
                     continue;
                 }
                 // Accept.
-                let yold = std::mem::replace(&mut self.y, w[..ny].to_vec());
+                // The new state goes into the buffer of the state two steps back.
+                let mut y_new = match self.prev.take() {
+                    Some((_, v)) => v,
+                    None => vec![0.0; ny],
+                };
+                y_new.copy_from_slice(&w[..ny]);
+                let yold = std::mem::replace(&mut self.y, y_new);
                 for i in 0..ny {
                     self.yd[i] = (self.y[i] - psi[i]) / beta_h;
                 }
@@ -830,6 +927,44 @@ mod tests {
             );
             assert!(order > 1.8, "order {order:.2} (errors {errors:?})");
         }
+    }
+
+    /// The working vectors kept between calls give the same bits as new ones: one integrator
+    /// keeps them, its twin is a clone before every call (a clone starts without them, as a
+    /// master's roll-back copy does), under input jumps and the error control's own steps.
+    #[test]
+    fn kept_working_vectors_give_the_bits_of_new_ones() {
+        let (mut sys, _) = ring_on_mount();
+        sys.forces.push(ForceElement::InputForce {
+            body: 0,
+            s_m: [0.0; 3],
+            input: 0,
+            reaction_body: None,
+        });
+        let force_n = |k: usize| [20.0 * (1.3 * k as f64).cos(), 5.0 * (0.7 * k as f64).sin()];
+        let x0 = [1e-5, -2e-6, 0.0, 0.0, 0.0, 0.0];
+        let tol = Tolerances::default();
+        let u0 = force_n(0).to_vec();
+        let mut kept = GglBdf::new(sys, tol, 0.0, x0.to_vec(), vec![0.0; 6], u0).unwrap();
+        let mut fresh = kept.clone();
+        let mut steps = 0;
+        for k in 0..60 {
+            let f = force_n(k);
+            let t_end = (k + 1) as f64 * 50e-6;
+            let mut input = |_: f64, u: &mut [f64]| {
+                u.copy_from_slice(&f);
+                Ok(())
+            };
+            steps += kept.advance_to(t_end, &mut input).unwrap().steps;
+            fresh = fresh.clone();
+            assert!(fresh.scratch.0.is_none());
+            fresh.advance_to(t_end, &mut input).unwrap();
+            let bits = |ig: &GglBdf| -> Vec<u64> {
+                ig.x().iter().chain(ig.v()).map(|v| v.to_bits()).collect()
+            };
+            assert_eq!(bits(&kept), bits(&fresh), "call {k}");
+        }
+        assert!(steps > 60, "{steps} steps: some calls take more than one");
     }
 
     /// Communication intervals of 10 us and 5 us in turn, every step as long as its interval:

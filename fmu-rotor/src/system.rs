@@ -228,6 +228,12 @@ impl ContactMemo {
     pub fn reused(&self) -> usize {
         self.reused
     }
+
+    /// Back to the empty memo of `default()`, keeping its allocation.
+    pub fn clear(&mut self) {
+        self.recorded.clear();
+        self.reused = 0;
+    }
 }
 
 /// Adds the force of `fe` if it is an [`ForceElement::InputForce`] (its input pair on its body
