@@ -1,5 +1,7 @@
-//! CSV time series, flushed at least every second of wall time so a killed run keeps its data;
-//! [`CsvObserver`] writes one from a run.
+//! CSV time series; [`CsvObserver`] writes one from a run. A writer flushes at least every second
+//! of wall time, so a killed run keeps its data up to then, but for the rows the observer still
+//! queues (at most [`MAX_QUEUED_ROWS`]: a few milliseconds of a run-up) and its checkpoint cuts
+//! the file back to its own rows on resume anyway.
 
 use crate::parallel::IdleWork;
 use std::collections::VecDeque;

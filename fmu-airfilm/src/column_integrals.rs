@@ -24,7 +24,10 @@ pub struct ColumnIntegrals {
     /// Weight of the node's P in Int P over the column at this phi point (w_q jac N_a(q) summed
     /// over the elements and zeta points).
     w_p: Vec<f64>,
-    /// The same for dP/dxi (the derivative along phi in the element's reference coordinate).
+    /// The same for dP/dxi (the derivative along phi in the element's reference coordinate) on
+    /// a uniform mesh; on a graded one for (dphi_e / 2) dP/dphi, the derivative in a reference
+    /// coordinate of the uniform element size, so that the consumers' factor 2 / dphi_e gives
+    /// dP/dphi on either (see `new`).
     w_dp: Vec<f64>,
     /// Int 1 over the column at this phi point, per point (sum of w_q jac).
     pub w_one: Vec<f64>,
@@ -193,11 +196,19 @@ mod tests {
     use crate::params::BearingParams;
     use crate::test_rng::symmetric;
 
-    /// The functionals against the element-by-element quadrature they replace, on the paper mesh
-    /// and a plain bore's periodic mesh, with random nodal values: equal to round-off.
+    /// The functionals against the element-by-element quadrature they replace, on the paper mesh,
+    /// a plain bore's periodic mesh and two graded meshes (each column its own size; the dP/dxi
+    /// weights then in the uniform element's reference coordinate, (dphi_e / 2) dP/dphi), with
+    /// random nodal values: equal to round-off.
     #[test]
     fn column_functionals_equal_the_element_quadrature() {
         let mut seed = 0x5eed_u64;
+        let graded = |n_elem_phi, mesh_grading| BearingParams {
+            n_elem_phi,
+            n_elem_z: 3,
+            mesh_grading,
+            ..BearingParams::paper()
+        };
         for prm in [
             BearingParams::paper(),
             BearingParams {
@@ -206,24 +217,33 @@ mod tests {
                 n_elem_z: 3,
                 ..BearingParams::default()
             },
+            graded(10, 0.8),
+            graded(7, 0.5),
         ] {
             let mesh = Mesh::new(&prm);
+            assert_eq!(mesh.graded, prm.mesh_grading < 1.0);
             let cols = ColumnIntegrals::new(&mesh);
             assert!(cols.fits(3 * mesh.ne_phi, mesh.npb));
             let pb: Vec<f64> = (0..mesh.npb).map(|_| 1.0 + symmetric(&mut seed)).collect();
-            let jac = 0.25 * mesh.dphi_e * mesh.dzeta_e;
             let b = &mesh.basis;
             let nq = cols.nq();
             let (mut p_ref, mut dp_ref, mut one_ref) =
                 (vec![0.0; nq], vec![0.0; nq], vec![0.0; nq]);
             for (e, nodes) in mesh.elem.iter().enumerate() {
                 let col = mesh.elem_col[e] as usize;
+                let dphi = if mesh.graded {
+                    mesh.col_dphi[col]
+                } else {
+                    mesh.dphi_e
+                };
+                let jac = 0.25 * dphi * mesh.dzeta_e;
                 let pq = at_gauss_points(&b.n, nodes, &pb);
                 let dq = at_gauss_points(&b.dx, nodes, &pb);
                 for q in 0..9 {
                     let g = 3 * col + q / 3;
                     p_ref[g] += b.w[q] * jac * pq[q];
-                    dp_ref[g] += b.w[q] * jac * dq[q];
+                    // dq is dP/dxi of this element: dP/dphi = dq 2 / dphi.
+                    dp_ref[g] += b.w[q] * jac * dq[q] * mesh.dphi_e / dphi;
                     one_ref[g] += b.w[q] * jac;
                 }
             }

@@ -47,6 +47,12 @@ pub enum FilmError {
         n_elem_z: usize,
         bytes: f64,
     },
+    /// A grading that would make a lobe's last column less than
+    /// [`crate::params::MIN_GRADED_COLUMN_RATIO`] of its first.
+    MeshGradingTooStrong {
+        mesh_grading: f64,
+        n_elem_phi: usize,
+    },
 }
 
 impl fmt::Display for FilmError {
@@ -121,6 +127,22 @@ impl fmt::Display for FilmError {
                 bytes / 1e9,
                 crate::integrator::MAX_NEWTON_MATRIX_BYTES / 1e9
             ),
+            FilmError::MeshGradingTooStrong {
+                mesh_grading,
+                n_elem_phi,
+            } => {
+                let n = *n_elem_phi as f64;
+                let ratio = crate::params::MIN_GRADED_COLUMN_RATIO;
+                write!(
+                    f,
+                    "invalid air-film parameter mesh_grading = {mesh_grading}: with {n_elem_phi} \
+                     elements along the lobe the last would be {:.1e} of the first, below {ratio} \
+                     (its node lines crowd at the trailing edge); take a grading of at least {:.3} \
+                     for this many elements, or fewer elements",
+                    mesh_grading.powf(n - 1.0),
+                    ratio.powf(1.0 / (n - 1.0)),
+                )
+            }
         }
     }
 }

@@ -161,6 +161,16 @@ impl BearingParams {
                 "mesh too fine (> 2000)",
             );
         }
+        // A lobe's last column is grading^(n - 1) of its first: past a ratio of 1e-3 the node
+        // lines crowd at the trailing edge (0.5 over 55 elements puts them within rounding of
+        // each other, over 1075 a column's size underflows to 0) and the Newton matrix degrades.
+        let last_to_first = self.mesh_grading.powi(self.n_elem_phi as i32 - 1);
+        if !self.bore.plain_bore && last_to_first < MIN_GRADED_COLUMN_RATIO {
+            return Err(FilmError::MeshGradingTooStrong {
+                mesh_grading: self.mesh_grading,
+                n_elem_phi: self.n_elem_phi,
+            });
+        }
         let bytes = crate::integrator::newton_matrix_bytes(self);
         if bytes > crate::integrator::MAX_NEWTON_MATRIX_BYTES {
             return Err(FilmError::MeshTooLarge {
@@ -209,8 +219,12 @@ fn uniform_grading() -> f64 {
     1.0
 }
 
-/// The strongest grading along a lobe: the last of 10 elements is then ~0.13 of the first.
+/// The strongest grading along a lobe: the last of 10 elements is then ~0.002 of the first
+/// (0.8, the run-ups': ~0.13).
 pub const MIN_MESH_GRADING: f64 = 0.5;
+
+/// The smallest column along a graded lobe, as a fraction of the first.
+pub const MIN_GRADED_COLUMN_RATIO: f64 = 1e-3;
 
 impl Default for BearingParams {
     fn default() -> Self {

@@ -342,11 +342,16 @@ impl RunupSettings {
     }
 
     /// The run-up's own film mesh where the user gave none: [`film_mesh_for`] the largest
-    /// bearing number. A `--set` of a film's `n_elem_phi` or `n_elem_z` is a mesh given too,
-    /// and leaves the settings' mesh as it is.
+    /// bearing number. A `--set` of a film's `n_elem_phi`, `n_elem_z` or `mesh_grading` is a
+    /// mesh given too, and leaves the settings' mesh as it is (the paper's 20 x 6 without
+    /// `--mesh`): a grading alone would otherwise have graded, or made uniform, the chosen mesh,
+    /// and `mesh_grading=1` on the chosen 10 elements is coarser than any run-up mesh.
     pub fn choose_film_mesh(&mut self) -> Result<(), String> {
         let mesh_set = self.fmu_parameters.iter().any(|(k, _)| {
-            k.starts_with("film") && (k.ends_with(".n_elem_phi") || k.ends_with(".n_elem_z"))
+            k.starts_with("film")
+                && [".n_elem_phi", ".n_elem_z", ".mesh_grading"]
+                    .iter()
+                    .any(|name| k.ends_with(name))
         });
         if mesh_set {
             return Ok(());
@@ -884,7 +889,7 @@ pub fn film_mesh_for(lambda: f64) -> (u32, u32, f64) {
 }
 
 /// The grading of the run-ups' graded film mesh ([`film_mesh_for`]): each element along a lobe
-/// 0.8 times the one before it, the last of ten 0.17 of the first.
+/// 0.8 times the one before it, the last of ten 0.13 of the first.
 pub const GRADED_MESH_GRADING: f64 = 0.8;
 
 fn is_uniform(g: &f64) -> bool {

@@ -335,6 +335,21 @@ mod tests {
         }
         let e = refusal(&["--set", "film.mesh_grading=0.3"]);
         assert!(e.contains("mesh_grading"), "{e}");
+        // A grading alone is a mesh given: it grades the paper's 20 x 6, not the chosen 10 x 3.
+        for g in ["1", "0.9"] {
+            let s = settings_of(&["--set", &format!("film.mesh_grading={g}")]);
+            assert_eq!(s.film_mesh_bearing_number, None);
+            for f in s.film_params().unwrap() {
+                let want: f64 = g.parse().unwrap();
+                assert_eq!((f.n_elem_phi, f.n_elem_z, f.mesh_grading), (20, 6, want));
+            }
+        }
+        // A grading that crowds the lobe's last columns is refused with the least it takes.
+        let e = refusal(&["--mesh", "40x3", "--set", "film.mesh_grading=0.7"]);
+        assert!(
+            e.contains("mesh_grading") && e.contains("at least 0.838"),
+            "{e}"
+        );
         let s = settings_of(&["--set", "film.n_elem_z=5"]);
         assert_eq!(s.film_mesh_bearing_number, None);
         for f in s.film_params().unwrap() {
