@@ -559,12 +559,12 @@ impl GglBdf {
             inputs(self.t, u)?;
             let (x, v) = self.y.split_at(nq);
             let (a0, lam) =
-                ggl::consistent_acceleration(&self.sys, &self.g_mat, self.t, x, v, &u, work)?;
+                ggl::consistent_acceleration(&self.sys, &self.g_mat, self.t, x, v, u, work)?;
             self.yd[nq..].copy_from_slice(&a0);
             self.lam = lam;
         } else if self.prev.is_some() && self.t < t_end {
             inputs(self.t, u)?;
-            self.take_input_jump_into_history(&u, work)?;
+            self.take_input_jump_into_history(u, work)?;
         }
         // A budget of internal steps per call: a pathological parameter set (a tiny mass under a
         // large force) must end in a StepFailure (fmi2Discard) instead of running for hours. Long
@@ -646,7 +646,7 @@ impl GglBdf {
                 }
                 self.ensure_matrix(beta_h, &mut stats)?;
                 // Newton from the predictor.
-                w[..ny].copy_from_slice(&yp);
+                w[..ny].copy_from_slice(yp);
                 for i in 0..nc {
                     w[ny + i] = beta_h * self.mu[i];
                     w[ny + nc + i] = beta_h * self.lam[i];
@@ -656,7 +656,7 @@ impl GglBdf {
                 let mut nrm0 = 0.0;
                 let mut iters_this = 0;
                 for m in 0..NEWTON_MAX_IT {
-                    ggl::residual(&self.sys, &self.g_mat, t1, &w, &psi, beta_h, &u, work, r);
+                    ggl::residual(&self.sys, &self.g_mat, t1, w, psi, beta_h, u, work, r);
                     self.lu.as_ref().expect("factored").solve(r);
                     for i in 0..nw {
                         w[i] -= r[i];
@@ -741,7 +741,7 @@ impl GglBdf {
                 }
                 self.prev = Some((self.t, yold));
                 self.t = t1;
-                self.u_last.copy_from_slice(&u);
+                self.u_last.copy_from_slice(u);
                 self.update_drift();
                 stats.steps += 1;
                 stats.h_last_s = h;
