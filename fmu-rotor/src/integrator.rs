@@ -809,6 +809,18 @@ mod tests {
         (sys, flow)
     }
 
+    /// [`ring_on_mount`] with the input pair (inputs 0 and 1) as a force on the ring's centre.
+    fn ring_on_mount_with_input_force() -> (MultibodySystem, impl Fn(f64, f64, f64) -> (f64, f64)) {
+        let (mut sys, flow) = ring_on_mount();
+        sys.forces.push(ForceElement::InputForce {
+            body: 0,
+            s_m: [0.0; 3],
+            input: 0,
+            reaction_body: None,
+        });
+        (sys, flow)
+    }
+
     /// One BDF2 step from exact past values (y_{n-1}, y_n and y'_n on the exact solution), w
     /// times as long as the step before: its error estimate must be its true local error. Before
     /// the fix (K = beta) the ratio was 1.67 at w = 1 (1.60-1.75 for w = 0.5-2).
@@ -875,13 +887,7 @@ mod tests {
     /// error fell at first order (orders 1.11 and 1.06 here, errors 7x larger at 2 steps per call).
     #[test]
     fn input_jumps_between_calls_keep_second_order() {
-        let (mut sys, flow) = ring_on_mount();
-        sys.forces.push(ForceElement::InputForce {
-            body: 0,
-            s_m: [0.0; 3],
-            input: 0,
-            reaction_body: None,
-        });
+        let (sys, flow) = ring_on_mount_with_input_force();
         let (_, c, _) = RING;
         let (call_s, n_calls) = (40e-6, 50);
         let force_n = |k: usize| [20.0 * (1.3 * k as f64).cos(), 0.0];
@@ -934,13 +940,7 @@ mod tests {
     /// master's roll-back copy does), under input jumps and the error control's own steps.
     #[test]
     fn kept_working_vectors_give_the_bits_of_new_ones() {
-        let (mut sys, _) = ring_on_mount();
-        sys.forces.push(ForceElement::InputForce {
-            body: 0,
-            s_m: [0.0; 3],
-            input: 0,
-            reaction_body: None,
-        });
+        let (sys, _) = ring_on_mount_with_input_force();
         let force_n = |k: usize| [20.0 * (1.3 * k as f64).cos(), 5.0 * (0.7 * k as f64).sin()];
         let x0 = [1e-5, -2e-6, 0.0, 0.0, 0.0, 0.0];
         let tol = Tolerances::default();
