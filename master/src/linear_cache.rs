@@ -8,7 +8,8 @@
 //!
 //! An entry holds one speed's least damping ratio (or that the analysis failed there), under a key
 //! that is everything the analysis depends on: the rotor's and both films' parameters as the
-//! linear analysis takes them (`stability::params_of`), the speed, and the `airring` build (the
+//! linear analysis takes them (`stability::params_of`; the films' time-integration tolerances,
+//! which it does not read, left out), the speed, and the `airring` build (the
 //! executable's size and modification time: a rebuilt analysis may compute something else). A
 //! parameter that differs in any bit is a different key, so a hit is the value the analysis would
 //! return; a file whose key text differs from the one asked for (a hash collision, a file from
@@ -35,6 +36,17 @@ struct Key<'a> {
     rotor: &'a RotorParams,
     films: &'a [BearingParams; 2],
     speed_hz_bits: u64,
+}
+
+/// A film's parameters as the linear analysis reads them: its time-integration tolerances (`rtol`,
+/// `atol_pa`, read by the transient integrator only) set to the film's defaults. A run-up whose
+/// mesh comes with its own tolerance (`runup::film_mesh_for`: 10 x 2 at 6e-4 / 60 Pa) plans its
+/// calm steps on the predictions' coarse mesh, and finds the analyses a sweep's predictions made
+/// there with the default tolerance.
+fn without_time_integration_tolerance(mut film: BearingParams) -> BearingParams {
+    let defaults = BearingParams::paper();
+    (film.rtol, film.atol_pa) = (defaults.rtol, defaults.atol_pa);
+    film
 }
 
 /// One entry file.
@@ -67,7 +79,7 @@ impl LinearCache {
         serde_json::to_string(&Key {
             build: &self.build,
             rotor,
-            films,
+            films: &films.clone().map(without_time_integration_tolerance),
             speed_hz_bits: speed_hz.to_bits(),
         })
         .expect("parameters serialize")
@@ -178,6 +190,10 @@ mod tests {
         let mut films_c = films.clone();
         films_c[1].bore.c_m *= 1.0 + f64::EPSILON;
         assert_eq!(cache.get(&rotor, &films_c, 100.0), None);
+        // The films' time-integration tolerances are no part of the analysis: found.
+        let mut films_d = films.clone();
+        (films_d[0].rtol, films_d[1].atol_pa) = (6e-4, 60.0);
+        assert_eq!(cache.get(&rotor, &films_d, 150.0), Some(None));
         let other = LinearCache::open_for_build(&dir, "build B").unwrap();
         assert_eq!(other.get(&rotor, &films, 100.0), None);
         // A file under the right name but with another key is a miss, not a wrong value.
