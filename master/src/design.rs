@@ -55,8 +55,9 @@ pub struct DesignArgs {
     pub dh: Option<f64>,
     /// Air-film mesh per lobe, uniform, e.g. 20x6 (elements along the lobe x across the half
     /// width; --set film.mesh_grading=G grades it toward each lobe's trailing edge). Default: the
-    /// paper's 20x6; a run-up without it takes 10x3 graded by 0.8, 20x4 or 20x6 by the largest
-    /// bearing number of its films (docs/convergence.md, "A graded film mesh along the lobe").
+    /// paper's 20x6; a run-up without it takes 10x2 or 10x3 graded by 0.8, 20x4 or 20x6 by the
+    /// largest bearing number of its films, 10x2 with film tolerance 6e-4,60 (docs/convergence.md,
+    /// "A graded film mesh along the lobe", "Two elements across the half width").
     #[arg(long)]
     pub mesh: Option<String>,
     /// Any other FMU parameter, repeatable: PREFIX.NAME=VALUE with PREFIX rotor, film (both

@@ -342,11 +342,12 @@ impl RunupSettings {
     }
 
     /// The run-up's own film mesh where the user gave none: [`film_mesh_for`] the largest
-    /// bearing number. A `--set` of a film's `n_elem_phi`, `n_elem_z` or `mesh_grading` is a
+    /// bearing number, and the tolerance that goes with that mesh unless `tolerance_given`
+    /// (`--film-tolerance`). A `--set` of a film's `n_elem_phi`, `n_elem_z` or `mesh_grading` is a
     /// mesh given too, and leaves the settings' mesh as it is (the paper's 20 x 6 without
     /// `--mesh`): a grading alone would otherwise have graded, or made uniform, the chosen mesh,
     /// and `mesh_grading=1` on the chosen 10 elements is coarser than any run-up mesh.
-    pub fn choose_film_mesh(&mut self) -> Result<(), String> {
+    pub fn choose_film_mesh(&mut self, tolerance_given: bool) -> Result<(), String> {
         let mesh_set = self.fmu_parameters.iter().any(|(k, _)| {
             k.starts_with("film")
                 && [".n_elem_phi", ".n_elem_z", ".mesh_grading"]
@@ -357,7 +358,12 @@ impl RunupSettings {
             return Ok(());
         }
         let lambda = self.largest_bearing_number()?;
-        (self.n_elem_phi, self.n_elem_z, self.mesh_grading) = film_mesh_for(lambda);
+        let mesh = film_mesh_for(lambda);
+        (self.n_elem_phi, self.n_elem_z, self.mesh_grading) =
+            (mesh.along, mesh.across, mesh.grading);
+        if !tolerance_given {
+            self.film_tolerance = Some(mesh.tolerance);
+        }
         self.film_mesh_bearing_number = Some(lambda);
         Ok(())
     }
@@ -689,10 +695,10 @@ fn bore_differences(c: &fmu_airfilm::BearingParams, t: &fmu_airfilm::BearingPara
     differ
 }
 
-/// The films' mesh as their FMUs get it, "film mesh 10 x 3 graded by 0.8 toward the trailing edge
-/// per lobe", why where the run-up chose
-/// it, "(for the largest bearing number 8.8; the paper's is 20 x 6)", and the films' time
-/// integration tolerance as their FMUs get it too, ", film tolerance 1e-3 / 100 Pa".
+/// The films' mesh as their FMUs get it, "film mesh 10 x 2 graded by 0.8 toward the trailing edge
+/// per lobe", why where the run-up chose it, "(for the largest bearing number 8.8; the paper's is
+/// 20 x 6)", and the films' time integration tolerance as their FMUs get it too, ", film
+/// tolerance 6e-4 / 60 Pa".
 pub fn describe_film_mesh(s: &RunupSettings) -> Result<String, String> {
     let films = s.film_params()?;
     let mesh = |f: &fmu_airfilm::BearingParams| {
@@ -852,11 +858,12 @@ pub const DEFAULT_MACRO_STEP_US: f64 = 50.0;
 /// before any instability. 100 us is the air films' own largest step (`h_max`), so they take one
 /// sub-step per macro step there instead of two.
 pub const DEFAULT_CALM_MACRO_STEP_US: f64 = 100.0;
-/// The film mesh of a run-up without `--mesh` [elements along each lobe, across the half width],
-/// for the largest bearing number `lambda` of the run ([`RunupSettings::largest_bearing_number`]):
-/// 10 x 3 graded toward each lobe's trailing edge up to lambda = 20 (C >= 13.3 um at 2000 Hz),
-/// 20 x 4 uniform up to 40 (C >= 9.4 um), the paper's 20 x 6 above (and where lambda is not a
-/// number). The third number is the films' `mesh_grading`.
+/// The film mesh of a run-up without `--mesh`, for the largest bearing number `lambda` of the run
+/// ([`RunupSettings::largest_bearing_number`]), and the films' tolerance with it: 10 x 2 graded
+/// toward each lobe's trailing edge up to lambda = 10 (C >= 18.7 um at 2000 Hz) at
+/// [`TWO_ACROSS_FILM_TOLERANCE`], 10 x 3 graded up to 20 (C >= 13.3 um), 20 x 4 uniform up to 40
+/// (C >= 9.4 um), the paper's 20 x 6 above (and where lambda is not a number), these three at
+/// [`DEFAULT_FILM_TOLERANCE`].
 ///
 /// Across the half width: the pressure is nearly a parabola, which one biquadratic element
 /// holds, except in an edge layer that narrows as lambda grows (session 28, 20 x 6 before; docs/
@@ -878,15 +885,56 @@ pub const DEFAULT_CALM_MACRO_STEP_US: f64 = 100.0;
 /// lobe) hold path 1's onset 0.021 % and its eccentricities 0.56 % from a 40 x 12 mesh, where
 /// 16 uniform ones were 0.032 % and 0.99 % off (C15/dH45/c1000/d50: 0.23 % and 0.57 %, 16 x 3
 /// 0.37 % and 1.63 %); path 1 in ~0.7 of the time.
-pub fn film_mesh_for(lambda: f64) -> (u32, u32, f64) {
-    if lambda <= 20.0 {
-        (10, 3, GRADED_MESH_GRADING)
+///
+/// Two elements across the half width where lambda <= 10 since session 34 (docs/convergence.md,
+/// "Two elements across the half width"): 105 nodes per lobe instead of 147 and a narrower band;
+/// at 6e-4 / 60 Pa path 1's onset 0.067 % and its eccentricities 0.57 % from a 40 x 12 mesh,
+/// paths 2a and 2b 0.24 % from their 10 us references, the Section 4 study the same class in all
+/// 42 cells, onsets within 0.20 % and eccentricities within 1.29 % of 10 x 3; path 1 whole
+/// process in 0.83 of the time.
+pub fn film_mesh_for(lambda: f64) -> FilmMesh {
+    let mesh = |along, across, grading, tolerance| FilmMesh {
+        along,
+        across,
+        grading,
+        tolerance,
+    };
+    if lambda <= TWO_ACROSS_MAX_BEARING_NUMBER {
+        mesh(10, 2, GRADED_MESH_GRADING, TWO_ACROSS_FILM_TOLERANCE)
+    } else if lambda <= 20.0 {
+        mesh(10, 3, GRADED_MESH_GRADING, DEFAULT_FILM_TOLERANCE)
     } else if lambda <= 40.0 {
-        (20, 4, 1.0)
+        mesh(20, 4, 1.0, DEFAULT_FILM_TOLERANCE)
     } else {
-        (20, 6, 1.0)
+        mesh(20, 6, 1.0, DEFAULT_FILM_TOLERANCE)
     }
 }
+
+/// A run-up's own film mesh ([`film_mesh_for`]) and the films' tolerance with it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilmMesh {
+    /// Elements along each lobe.
+    pub along: u32,
+    /// Elements across the half width.
+    pub across: u32,
+    /// The films' `mesh_grading` (1: uniform).
+    pub grading: f64,
+    /// The films' time-integration tolerance [rtol, atol in Pa].
+    pub tolerance: [f64; 2],
+}
+
+/// Largest bearing number up to which a run-up's films take two elements across the half width
+/// ([`film_mesh_for`]): C >= 18.7 um at 2000 Hz, the Section 3 presets and the C = 20 and 30 um
+/// cells of Section 4.
+pub const TWO_ACROSS_MAX_BEARING_NUMBER: f64 = 10.0;
+
+/// The films' tolerance [rtol, atol in Pa] on the run-ups' 10 x 2 mesh ([`film_mesh_for`]). At
+/// [`DEFAULT_FILM_TOLERANCE`] its accepted errors seeded C30/dH60/c1000/d500's slowly growing
+/// whirl 5-7 % early in two of nine disturbance seeds (1e-4 / 10 Pa on the same mesh: within
+/// 0.07 % of 10 x 3); at 6e-4 / 60 Pa all nine, and the nine of each of the two cells that coarse
+/// films had seeded early before, are within 0.13 % of 10 x 3 (docs/convergence.md, "Two
+/// elements across the half width").
+pub const TWO_ACROSS_FILM_TOLERANCE: [f64; 2] = [6e-4, 60.0];
 
 /// The grading of the run-ups' graded film mesh ([`film_mesh_for`]): each element along a lobe
 /// 0.8 times the one before it, the last of ten 0.13 of the first.

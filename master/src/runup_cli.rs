@@ -198,7 +198,7 @@ pub fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
         }
     }
     if a.bearing.mesh.is_none() {
-        s.choose_film_mesh()?;
+        s.choose_film_mesh(a.film_tolerance.is_some())?;
     }
     Ok(s)
 }
@@ -265,19 +265,32 @@ mod tests {
     /// --mesh, or a film's n_elem_phi / n_elem_z through --set, is the user's mesh and stays.
     #[test]
     fn run_up_chooses_the_film_mesh_by_the_largest_bearing_number() {
+        use crate::runup::{film_mesh_for, DEFAULT_FILM_TOLERANCE, TWO_ACROSS_FILM_TOLERANCE};
         let g = crate::runup::GRADED_MESH_GRADING;
-        assert_eq!(crate::runup::film_mesh_for(8.8), (10, 3, g));
-        assert_eq!(crate::runup::film_mesh_for(20.0), (10, 3, g));
-        assert_eq!(crate::runup::film_mesh_for(20.01), (20, 4, 1.0));
-        assert_eq!(crate::runup::film_mesh_for(40.0), (20, 4, 1.0));
-        assert_eq!(crate::runup::film_mesh_for(40.01), (20, 6, 1.0));
-        assert_eq!(crate::runup::film_mesh_for(f64::NAN), (20, 6, 1.0));
+        let rule = |lambda| {
+            let m = film_mesh_for(lambda);
+            (m.along, m.across, m.grading, m.tolerance)
+        };
+        let (two, one) = (TWO_ACROSS_FILM_TOLERANCE, DEFAULT_FILM_TOLERANCE);
+        assert_eq!(rule(8.8), (10, 2, g, two));
+        assert_eq!(rule(10.0), (10, 2, g, two));
+        assert_eq!(rule(10.01), (10, 3, g, one));
+        assert_eq!(rule(20.0), (10, 3, g, one));
+        assert_eq!(rule(20.01), (20, 4, 1.0, one));
+        assert_eq!(rule(40.0), (20, 4, 1.0, one));
+        assert_eq!(rule(40.01), (20, 6, 1.0, one));
+        assert_eq!(rule(f64::NAN), (20, 6, 1.0, one));
+        assert!(
+            two[0] < one[0] && two[1] < one[1],
+            "the coarser mesh integrates tighter"
+        );
 
         // (flags, (along, across, grading), largest bearing number)
         type Case<'a> = (&'a [&'a str], (u32, u32, f64), f64);
-        let cases: [Case; 7] = [
-            (&[], (10, 3, g), lambda(20.0, 2000.0)),
-            (&["--stop", "0.1"], (10, 3, g), lambda(20.0, 2000.0)),
+        let cases: [Case; 8] = [
+            (&[], (10, 2, g), lambda(20.0, 2000.0)),
+            (&["--stop", "0.1"], (10, 2, g), lambda(20.0, 2000.0)),
+            (&["--clearance", "15"], (10, 3, g), lambda(15.0, 2000.0)),
             (&["--clearance", "10"], (20, 4, 1.0), lambda(10.0, 2000.0)),
             (&["--clearance", "5"], (20, 6, 1.0), lambda(5.0, 2000.0)),
             // The smaller clearance of the two films decides (C 20 / 10 um).
@@ -306,6 +319,9 @@ mod tests {
                 mesh,
                 "{flags:?}"
             );
+            // The mesh's own tolerance: tighter on 10 x 2.
+            let tolerance = if mesh.1 == 2 { two } else { one };
+            assert_eq!(s.film_tolerance, Some(tolerance), "{flags:?}");
             let got = s.film_mesh_bearing_number.unwrap();
             assert!(
                 close(got, expected_lambda),
@@ -321,6 +337,12 @@ mod tests {
             }
         }
 
+        // A tolerance given is kept with the chosen mesh; a mesh given keeps the default one.
+        let s = settings_of(&["--film-tolerance", "2e-3,200"]);
+        assert_eq!((s.n_elem_z, s.film_tolerance), (2, Some([2e-3, 200.0])));
+        let s = settings_of(&["--mesh", "10x2", "--set", "film.mesh_grading=0.8"]);
+        assert_eq!(s.film_tolerance, Some(one));
+
         // --mesh is a uniform mesh; a grading comes with --set film.mesh_grading.
         let s = settings_of(&["--mesh", "20x6", "--clearance", "10"]);
         assert_eq!((s.n_elem_phi, s.n_elem_z, s.mesh_grading), (20, 6, 1.0));
@@ -335,7 +357,7 @@ mod tests {
         }
         let e = refusal(&["--set", "film.mesh_grading=0.3"]);
         assert!(e.contains("mesh_grading"), "{e}");
-        // A grading alone is a mesh given: it grades the paper's 20 x 6, not the chosen 10 x 3.
+        // A grading alone is a mesh given: it grades the paper's 20 x 6, not the chosen 10 x 2.
         for g in ["1", "0.9"] {
             let s = settings_of(&["--set", &format!("film.mesh_grading={g}")]);
             assert_eq!(s.film_mesh_bearing_number, None);
@@ -366,9 +388,9 @@ mod tests {
         let line = crate::runup::describe_film_mesh(&settings_of(&[])).unwrap();
         assert!(
             line.starts_with(
-                "film mesh 10 x 3 graded by 0.8 toward the trailing edge per lobe (for the \
+                "film mesh 10 x 2 graded by 0.8 toward the trailing edge per lobe (for the \
                  largest bearing number 8.8"
-            ) && line.ends_with(", film tolerance 1e-3 / 100 Pa"),
+            ) && line.ends_with(", film tolerance 6e-4 / 60 Pa"),
             "{line}"
         );
         let s = settings_of(&["--mesh", "20x6", "--set", "film_T.rtol=1e-4"]);

@@ -187,14 +187,18 @@ fn smoke_study_runs_resumes_and_shards_merge() {
     let mut meta: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&meta_path).unwrap()).unwrap();
     let g = master::runup::GRADED_MESH_GRADING;
+    let two = master::runup::TWO_ACROSS_FILM_TOLERANCE;
+    let one = master::runup::DEFAULT_FILM_TOLERANCE;
     assert_eq!(
         meta["defaults"]["film_mesh_rule"],
         serde_json::json!([
-            [10, 3, g],
-            [10, 3, g],
-            [20, 4, 1.0],
-            [20, 4, 1.0],
-            [20, 6, 1.0]
+            [10, 2, g, two],
+            [10, 2, g, two],
+            [10, 3, g, one],
+            [10, 3, g, one],
+            [20, 4, 1.0, one],
+            [20, 4, 1.0, one],
+            [20, 6, 1.0, one]
         ]),
         "{meta}"
     );

@@ -122,12 +122,17 @@ pub fn defaults_of(args: &BTreeMap<String, String>) -> serde_json::Value {
         .and_then(|s| serde_json::to_value(s).ok())
         .unwrap_or_default();
     // The film mesh a run-up chooses by its bearing number is a default too, but no field of the
-    // preset's settings: recorded as the rule's choice across its range, so that a run made
-    // with another rule (20 x 3 before session 31, 20 x 6 before session 28) runs again.
+    // preset's settings: recorded as the rule's choice across its range (mesh and the films'
+    // tolerance with it), so that a run made with another rule (10 x 3 at 1e-3 / 100 Pa up to
+    // bearing number 10 before session 34, 20 x 3 before session 31, 20 x 6 before session 28)
+    // runs again.
     if let Some(map) = defaults.as_object_mut() {
-        let rule: Vec<(u32, u32, f64)> = FILM_MESH_RULE_SAMPLES
+        let rule: Vec<(u32, u32, f64, [f64; 2])> = FILM_MESH_RULE_SAMPLES
             .iter()
-            .map(|&lambda| crate::runup::film_mesh_for(lambda))
+            .map(|&lambda| {
+                let m = crate::runup::film_mesh_for(lambda);
+                (m.along, m.across, m.grading, m.tolerance)
+            })
             .collect();
         map.insert("film_mesh_rule".into(), serde_json::json!(rule));
     }
@@ -135,8 +140,8 @@ pub fn defaults_of(args: &BTreeMap<String, String>) -> serde_json::Value {
 }
 
 /// Bearing numbers at which a sweep records the run-up's film-mesh rule (`defaults_of`): a point
-/// in each of its three ranges and its two thresholds (20, 40).
-const FILM_MESH_RULE_SAMPLES: [f64; 5] = [5.0, 20.0, 30.0, 40.0, 60.0];
+/// in each of its four ranges and its three thresholds (10, 20, 40).
+const FILM_MESH_RULE_SAMPLES: [f64; 7] = [5.0, 10.0, 15.0, 20.0, 30.0, 40.0, 60.0];
 
 /// True if the run folder's sweep_run.json has these flags and these defaults (folders from
 /// before the defaults were recorded count as the same).
