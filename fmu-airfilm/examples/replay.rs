@@ -5,8 +5,9 @@
 //! cargo run --release -p fmu-airfilm --example replay -- RUN_DIR/timeseries.csv C [t_end_s [t_start_s [h_us]]]
 //!
 //! AIRFILM_MESH=20x3 and AIRFILM_TOL=1e-3,100 give the film a run-up's mesh and tolerances (the
-//! paper's 20 x 6 and the FMU's own tolerances without them), AIRFILM_HMAX_US=1000 another largest
-//! sub-step (its own 100 us without).
+//! paper's 20 x 6 and the FMU's own tolerances without them), AIRFILM_GRADING=0.8 a graded mesh
+//! (the run-ups' 10 x 3 is `AIRFILM_MESH=10x3 AIRFILM_GRADING=0.8`), AIRFILM_HMAX_US=1000 another
+//! largest sub-step (its own 100 us without).
 //!
 //! With a start time the film starts there from ambient pressure; the first 2 ms (its start-up
 //! transient) are not counted.
@@ -74,6 +75,9 @@ fn main() {
         let (phi, z) = mesh.split_once('x').expect("AIRFILM_MESH: e.g. 20x3");
         params.n_elem_phi = phi.parse().unwrap();
         params.n_elem_z = z.parse().unwrap();
+    }
+    if let Ok(grading) = std::env::var("AIRFILM_GRADING") {
+        params.mesh_grading = grading.parse().expect("AIRFILM_GRADING: e.g. 0.8");
     }
     if let Ok(tol) = std::env::var("AIRFILM_TOL") {
         let (rtol, atol) = tol.split_once(',').expect("AIRFILM_TOL: e.g. 1e-3,100");
