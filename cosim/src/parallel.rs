@@ -56,6 +56,17 @@ impl IdleWorkers {
         self.list.any.store(true, Ordering::Release);
     }
 
+    /// Takes `work` back (the same allocation as offered): once this returns no waiting thread
+    /// runs a piece of it (a piece under way holds the list's lock until it ends), and the list
+    /// holds it no more. Observers withdraw their work when their run ends: a `CoSim` (and its
+    /// pool) that steps another run would otherwise keep the finished run's work alive and
+    /// offer it to its threads.
+    pub fn withdraw(&self, work: &Arc<dyn IdleWork>) {
+        let mut list = self.list.work.lock().unwrap_or_else(|p| p.into_inner());
+        list.retain(|w| !std::ptr::addr_eq(Arc::as_ptr(w), Arc::as_ptr(work)));
+        self.list.any.store(!list.is_empty(), Ordering::Release);
+    }
+
     /// One piece of any offered work; false when none was done. A piece that panics is
     /// contained here (the thread goes on waiting for its step) and its work is offered no
     /// more; the work itself sees the panic (a poisoned lock) on its owner's side.
@@ -446,6 +457,38 @@ mod tests {
             "after {steps} steps"
         );
         assert!(m.iter().all(|x| x.steps == steps));
+    }
+
+    /// Withdrawn work is run no more and the pool holds it no more; other offered work goes on.
+    #[test]
+    fn withdrawn_work_is_run_no_more_and_released() {
+        let live = Arc::new(AtomicUsize::new(0));
+        let pool = StepPool::new(2);
+        let (first, second) = (pieces(100_000, None), pieces(50, None));
+        let offered: Arc<dyn IdleWork> = first.clone();
+        pool.idle_workers().offer(offered.clone());
+        pool.idle_workers().offer(second.clone());
+        let mut m = members(2, &live);
+        let mut step = |n: usize| {
+            for _ in 0..n {
+                let mut refs: Vec<&mut Member> = m.iter_mut().collect();
+                assert!(pool.step(&mut refs, 0.0, 1.0).iter().all(|r| r.is_ok()));
+            }
+        };
+        step(20);
+        assert!(first.done.load(Ordering::Acquire) > 0, "no piece before");
+        pool.idle_workers().withdraw(&offered);
+        let done = first.done.load(Ordering::Acquire);
+        drop(offered);
+        assert_eq!(Arc::strong_count(&first), 1, "the pool still holds it");
+        for _ in 0..2_000 {
+            if second.done.load(Ordering::Acquire) == 50 {
+                break;
+            }
+            step(1);
+        }
+        assert_eq!(first.done.load(Ordering::Acquire), done);
+        assert_eq!(second.done.load(Ordering::Acquire), 50);
     }
 
     /// A piece that panics is contained: its work is offered no more, and the pool's steps go on.

@@ -3,7 +3,7 @@
 //! queues (at most [`MAX_QUEUED_ROWS`]: a few milliseconds of a run-up) and its checkpoint cuts
 //! the file back to its own rows on resume anyway.
 
-use crate::parallel::IdleWork;
+use crate::parallel::{IdleWork, IdleWorkers};
 use std::collections::VecDeque;
 use std::fs::{File, OpenOptions};
 use std::io::{BufWriter, Seek, Write};
@@ -156,8 +156,9 @@ impl TimeSeriesWriter {
 pub struct CsvObserver {
     path: std::path::PathBuf,
     queue: Option<Arc<RowQueue>>,
-    /// Threads waiting on a pool take rows (otherwise each row is written as it comes).
-    offloaded: bool,
+    /// The pool whose waiting threads take rows (otherwise each row is written as it comes);
+    /// the queue is withdrawn from it when the run ends.
+    idle_workers: Option<IdleWorkers>,
 }
 
 /// Rows a sample leaves for the pool's waiting threads before the observer writes them itself
@@ -230,7 +231,7 @@ impl CsvObserver {
         CsvObserver {
             path: path.into(),
             queue: None,
-            offloaded: false,
+            idle_workers: None,
         }
     }
 
@@ -268,10 +269,10 @@ impl crate::Observer for CsvObserver {
                 error: None,
             }),
         });
-        self.offloaded = run.idle_workers.is_some();
         if let Some(idle) = &run.idle_workers {
             idle.offer(queue.clone());
         }
+        self.idle_workers = run.idle_workers.clone();
         self.queue = Some(queue);
         Ok(())
     }
@@ -288,7 +289,7 @@ impl crate::Observer for CsvObserver {
         row.extend_from_slice(values);
         q.waiting.push_back(row);
         queue.pending.fetch_add(1, Ordering::Release);
-        if !self.offloaded || q.waiting.len() > MAX_QUEUED_ROWS {
+        if self.idle_workers.is_none() || q.waiting.len() > MAX_QUEUED_ROWS {
             queue.write_all(&mut q)?;
         }
         Ok(())
@@ -309,6 +310,7 @@ impl crate::Observer for CsvObserver {
         _cosim: &crate::CoSim,
         _report: &crate::RunReport,
     ) -> Result<(), String> {
+        self.withdraw_queue();
         let Some(queue) = &self.queue else {
             return Ok(());
         };
@@ -319,9 +321,21 @@ impl crate::Observer for CsvObserver {
     }
 }
 
+impl CsvObserver {
+    /// Takes the row queue back from the pool's waiting threads (the run has ended; this
+    /// observer writes what is left).
+    fn withdraw_queue(&mut self) {
+        if let (Some(idle), Some(queue)) = (self.idle_workers.take(), &self.queue) {
+            let work: Arc<dyn IdleWork> = queue.clone();
+            idle.withdraw(&work);
+        }
+    }
+}
+
 impl Drop for CsvObserver {
     /// Rows still queued are written (a run that ends without `finished` loses none).
     fn drop(&mut self) {
+        self.withdraw_queue();
         if let Some(queue) = &self.queue {
             if let Ok(mut q) = queue.rows.lock() {
                 let _ = queue.write_all(&mut q);
@@ -501,7 +515,7 @@ mod tests {
 
     /// Rows queued for a pool's waiting threads reach the file complete and in order, the same
     /// bytes as rows written at once; a checkpoint in between records exactly the rows sampled
-    /// before it, with their checksum.
+    /// before it, with their checksum; the ended run's queue is withdrawn from the pool.
     #[test]
     fn rows_written_by_the_pools_threads_are_the_rows_written_at_once() {
         use crate::Observer;
@@ -550,7 +564,13 @@ mod tests {
                     at_checkpoint = Some((ms.csv_bytes, ms.csv_check));
                 }
             }
+            let queue = Arc::downgrade(obs.queue.as_ref().unwrap());
             drop(obs);
+            // The pool, which lives on for other runs, holds the ended run's queue no more.
+            assert!(
+                queue.upgrade().is_none(),
+                "{name}: the queue outlives its run"
+            );
             (std::fs::read(&path).unwrap(), at_checkpoint.unwrap())
         };
         let (at_once, _) = file("at_once.csv", None);
