@@ -213,7 +213,8 @@ pub fn plot_runup(
 }
 
 /// `job(0..n)` on the caller's thread and one more, each taking the next index when it is free;
-/// the results in index order. A panic in a job is re-raised on the caller's thread.
+/// the results in index order. A panic in a job is re-raised on the caller's thread with its own
+/// message (the scope alone would report a helper's as "a scoped thread panicked").
 fn on_two_threads<T: Send>(n: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> {
     use std::sync::atomic::{AtomicUsize, Ordering};
     use std::sync::Mutex;
@@ -228,8 +229,11 @@ fn on_two_threads<T: Send>(n: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> 
         results.lock().unwrap_or_else(|p| p.into_inner())[k] = Some(r);
     };
     std::thread::scope(|s| {
-        s.spawn(work);
+        let helper = s.spawn(work);
         work();
+        if let Err(panic) = helper.join() {
+            std::panic::resume_unwind(panic);
+        }
     });
     results
         .into_inner()

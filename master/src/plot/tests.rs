@@ -148,9 +148,24 @@ fn on_two_threads_returns_every_result_in_index_order() {
     assert!(super::on_two_threads(0, |k| k).is_empty());
 }
 
-/// A job's panic reaches the caller.
+/// A job's panic reaches the caller, with its own message from either thread.
 #[test]
 fn on_two_threads_passes_a_panic_on() {
     let r = std::panic::catch_unwind(|| super::on_two_threads(5, |k| assert_ne!(k, 3)));
     assert!(r.is_err());
+    let caller = std::thread::current().id();
+    let r = std::panic::catch_unwind(|| {
+        super::on_two_threads(40, |k| {
+            std::thread::sleep(std::time::Duration::from_millis(1));
+            if std::thread::current().id() != caller {
+                panic!("figure {k} failed on the helper thread");
+            }
+        })
+    });
+    let panic = r.expect_err("the helper took an index and panicked");
+    let message = panic
+        .downcast_ref::<String>()
+        .map(String::as_str)
+        .unwrap_or("(not a message)");
+    assert!(message.contains("on the helper thread"), "{message}");
 }
