@@ -69,9 +69,10 @@ pub struct RunupArgs {
     /// down to 1/64), or "off" for a fixed macro step [default: 0.3,3; 0.1,1 until 2026-12-04]
     #[arg(long)]
     pub step_control: Option<String>,
-    /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: 1e-3,100 (3e-3,300 with the
-    /// paper's 20x6 mesh in sessions 22-27, `--mesh 20x6 --film-tolerance 3e-3,300`); the FMU's
-    /// own defaults are 1e-4,10]
+    /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: 1e-3,100, and 6e-4,60 with
+    /// the 10x2 mesh a run-up chooses for the larger clearances (3e-3,300 with the paper's 20x6
+    /// mesh in sessions 22-27, `--mesh 20x6 --film-tolerance 3e-3,300`); the FMU's own defaults
+    /// are 1e-4,10]
     #[arg(long)]
     pub film_tolerance: Option<String>,
     /// Where the journal-ring contact is evaluated: "rotor" (implicitly inside the rotor's
