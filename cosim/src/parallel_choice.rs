@@ -47,6 +47,12 @@ const PARALLEL_MARGIN: f64 = 0.95;
 /// graded mesh) no parallel probe survived its first two steps: a run that started serially
 /// stayed serial. (4 steps with the first until 2026-12-05.)
 const PROBE_ABORT_AFTER: u32 = 2;
+/// A parallel probe also ends at its first step when that took more than this many serial
+/// steps: a parked worker's wake-up costs 50-150 us on a quiet machine (2-6 serial steps of a
+/// film step of ~26 us), but beside a busy process the worker waits milliseconds for a core
+/// (path 1 beside one busy loop: ~3 ms per parallel step, over 100 serial steps), and so does
+/// each further step of the probe: it took three until 2026-12-06, ~1.3 % of such a run.
+const FIRST_STEP_STALL: f64 = 20.0;
 
 #[derive(Clone, Copy, Debug)]
 enum Phase {
@@ -160,14 +166,21 @@ impl SteppingChoice {
                     timed
                 };
                 let spent = if done == 0 { spent } else { spent + wall };
+                let serial_us = self.means[index(Stepping::Serial)];
+                let stalled_first = mode == Stepping::Parallel
+                    && done == 0
+                    && serial_us.is_some_and(|s| wall.as_secs_f64() * 1e6 > FIRST_STEP_STALL * s);
                 let done = done + 1;
                 let after_first = done - 1;
                 let losing = mode == Stepping::Parallel
                     && after_first >= PROBE_ABORT_AFTER
-                    && self.means[index(Stepping::Serial)].is_some_and(|s| {
+                    && serial_us.is_some_and(|s| {
                         spent.as_secs_f64() * 1e6 > 2.0 * s * f64::from(after_first)
                     });
-                if losing {
+                if stalled_first {
+                    self.means[index(mode)] = Some(wall.as_secs_f64() * 1e6);
+                    self.decide()
+                } else if losing {
                     self.means[index(mode)] =
                         Some(spent.as_secs_f64() * 1e6 / f64::from(after_first));
                     self.decide()
@@ -347,6 +360,23 @@ mod tests {
         assert_eq!(at(21_000), Some(Stepping::Serial));
         assert_eq!(at(119_000), Some(Stepping::Parallel));
         assert!(c.stats().switches >= 2);
+    }
+
+    /// Beside one busy process (path 1 on 2 cores: parallel steps ~3 ms against ~26 us serially)
+    /// each parallel probe ends at its first step, the parked worker's wake-up, which stalls too:
+    /// a probe used to take three such steps.
+    #[test]
+    fn a_stalled_wake_up_ends_a_parallel_probe_at_once() {
+        let mut c = SteppingChoice::new();
+        run(&mut c, 54_400, |_, m| match m {
+            Stepping::Parallel => 3_000,
+            Stepping::Serial => 26,
+        });
+        let s = c.stats();
+        assert_eq!(s.choice, Some(Stepping::Serial), "{s:?}");
+        // One parallel step per probe: the first, at the start, then after holds of 2 000, 4 000,
+        // 8 000, 16 000 and 16 000 steps.
+        assert_eq!(s.parallel_steps, 6, "{s:?}");
     }
 
     /// Under load a parallel step stalls now and then, between fast ones (the scheduler gives the
