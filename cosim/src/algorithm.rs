@@ -31,6 +31,7 @@ use crate::subsystem::Subsystem;
 use fmi2::importer::CallError;
 use fmi2::Status;
 use std::collections::VecDeque;
+use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -102,7 +103,7 @@ pub struct CoSim {
     saved: Option<Saved>,
     events: Vec<Event>,
     /// The loaded FMUs (their libraries must outlive the instances).
-    _fmus: Vec<Fmu>,
+    _fmus: Vec<Arc<Fmu>>,
 }
 
 impl CoSim {
@@ -166,7 +167,7 @@ impl CoSim {
         subs: Vec<Subsystem>,
         order: Vec<usize>,
         config: AlgorithmConfig,
-        fmus: Vec<Fmu>,
+        fmus: Vec<Arc<Fmu>>,
     ) -> Result<CoSim, StepError> {
         let groups = match config.scheme {
             Scheme::Jacobi => vec![order.clone()],

@@ -1,7 +1,7 @@
 //! From a system file to instantiated, initialized FMUs wired together.
 
 use crate::algorithm::{AlgorithmConfig, CoSim, Scheme};
-use crate::slave::{Fmu, Slave};
+use crate::slave::{Fmu, LoadedFmus, Slave};
 use crate::step_control::StepControl;
 use crate::step_plan::LongSteps;
 use crate::subsystem::{Link, Subsystem};
@@ -253,6 +253,7 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
         }
     }
 
+    let mut loaded = LoadedFmus::default();
     let mut fmus = Vec::new();
     let mut subs: Vec<Subsystem> = Vec::new();
     for e in &f.fmu {
@@ -265,7 +266,9 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
             ));
         }
         let path = sys.resolve(e.path.get_ref());
-        let fmu = Fmu::load(&path).map_err(|err| sys.error_at(&e.path, "fmu.path", err))?;
+        let fmu = loaded
+            .get(&path)
+            .map_err(|err| sys.error_at(&e.path, "fmu.path", err))?;
         let slave = fmu
             .instantiate(&name, false, log.clone())
             .map_err(|err| sys.error_at(&e.name, "fmu", err))?;

@@ -6,7 +6,8 @@
 //! of FMI 3.0 twins runs the same macro steps with the same inputs as its FMI 2.0 original.
 
 use fmi2::importer::{unpack_unless_folder, CallError, ImportError, LogHandler, ModelDescription};
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// A loaded FMU.
 pub enum Fmu {
@@ -67,6 +68,35 @@ impl Fmu {
             Fmu::V2(f) => Slave::V2(f.instantiate(instance_name, logging_on, log)?),
             Fmu::V3(f) => Slave::V3(f.instantiate(instance_name, logging_on, log)?),
         })
+    }
+}
+
+/// The FMUs of a system's instances, each file loaded (unpacked, its library opened) once and
+/// shared by the instances that name it: a run-up's two air films are two instances of one
+/// `airfilm.fmu`, and loading it twice cost a second unpacked copy and ~6 ms of the start. An FMU whose
+/// description says `canBeInstantiatedOnlyOncePerProcess` gets a copy of its own per instance
+/// instead, as before (an unpacked folder is not copied: its library is opened from the same
+/// file, so the process shares it, as any dynamic loader does).
+#[derive(Default)]
+pub struct LoadedFmus {
+    loaded: Vec<(PathBuf, Arc<Fmu>)>,
+}
+
+impl LoadedFmus {
+    /// The FMU at `path`, loaded now or shared with an earlier instance of the same file.
+    pub fn get(&mut self, path: &Path) -> Result<Arc<Fmu>, ImportError> {
+        // The same file under two spellings (a relative and an absolute path) is one FMU.
+        let key = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_path_buf());
+        let shared = self
+            .loaded
+            .iter()
+            .find(|(p, f)| *p == key && !f.description().can_be_instantiated_only_once_per_process);
+        if let Some((_, f)) = shared {
+            return Ok(Arc::clone(f));
+        }
+        let fmu = Arc::new(Fmu::load(path)?);
+        self.loaded.push((key, Arc::clone(&fmu)));
+        Ok(fmu)
     }
 }
 

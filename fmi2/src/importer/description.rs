@@ -33,6 +33,9 @@ pub struct ModelDescription {
     pub can_get_and_set_fmu_state: bool,
     pub can_serialize_fmu_state: bool,
     pub can_handle_variable_step: bool,
+    /// `canBeInstantiatedOnlyOncePerProcess`: a second instance needs its own copy of the
+    /// library (another unpacked folder), not another instance of the loaded one.
+    pub can_be_instantiated_only_once_per_process: bool,
     pub variables: Vec<ScalarVariable>,
     pub units: Vec<UnitInfo>,
     pub default_step_size: Option<f64>,
@@ -164,6 +167,10 @@ impl ModelDescription {
             can_get_and_set_fmu_state: flag(cs, "canGetAndSetFMUstate"),
             can_serialize_fmu_state: flag(cs, "canSerializeFMUstate"),
             can_handle_variable_step: flag(cs, "canHandleVariableCommunicationStepSize"),
+            can_be_instantiated_only_once_per_process: flag(
+                cs,
+                "canBeInstantiatedOnlyOncePerProcess",
+            ),
             variables,
             units,
             default_step_size: de

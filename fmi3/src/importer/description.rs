@@ -181,6 +181,7 @@ pub fn parse(xml: &str) -> Result<(ModelDescription, Fmi3Extras), String> {
         can_get_and_set_fmu_state: flag(cs, "canGetAndSetFMUState"),
         can_serialize_fmu_state: flag(cs, "canSerializeFMUState"),
         can_handle_variable_step: flag(cs, "canHandleVariableCommunicationStepSize"),
+        can_be_instantiated_only_once_per_process: flag(cs, "canBeInstantiatedOnlyOncePerProcess"),
         variables,
         units,
         default_step_size: de
