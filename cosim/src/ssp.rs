@@ -17,7 +17,7 @@
 //! the input before it.
 
 use crate::setup::{parameter_value, ParamValue};
-use crate::slave::Fmu;
+use crate::slave::LoadedFmus;
 use crate::system::{split_port, System, SystemError};
 use fmi2::importer::ModelDescription;
 use fmi2::Causality;
@@ -99,6 +99,7 @@ pub fn export(system_path: &Path, out: &Path) -> Result<Exported, String> {
     let mut fmus: BTreeMap<String, ModelDescription> = BTreeMap::new();
     let mut files: Vec<(PathBuf, String)> = vec![];
     let mut comps: Vec<Component> = vec![];
+    let mut loaded = LoadedFmus::default();
     for e in &f.fmu {
         let name = e.name.get_ref().clone();
         if fmus.contains_key(&name) {
@@ -111,8 +112,9 @@ pub fn export(system_path: &Path, out: &Path) -> Result<Exported, String> {
                 .to_string());
         }
         let path = sys.resolve(e.path.get_ref());
-        let fmu =
-            Fmu::load(&path).map_err(|err| sys.error_at(&e.path, "fmu.path", err).to_string())?;
+        let fmu = loaded
+            .get(&path)
+            .map_err(|err| sys.error_at(&e.path, "fmu.path", err).to_string())?;
         let canonical = path
             .canonicalize()
             .map_err(|err| format!("{}: {err}", path.display()))?;
