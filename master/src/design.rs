@@ -20,7 +20,7 @@
 //! Values are numbers in SI units or strings "number unit" with a display unit the FMU declares;
 //! names and ranges are checked against the FMUs' variable tables. The file becomes the same
 //! FMU parameter entries as `--set` (`film_C.C`, `rotor.c_T`, ...), so a design, a study key and a
-//! flag edit one description; the rotor's contact geometry is derived from the films (runup.rs).
+//! flag edit one description; the rotor's contact geometry is derived from the films (runup/mod.rs).
 
 use crate::fmu_params::FmuParameter;
 use crate::runup::RunupSettings;
