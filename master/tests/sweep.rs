@@ -453,13 +453,12 @@ fn linear_prediction_matches_the_stability_command_point_by_point() {
     );
 }
 
-/// A batch system's time limit (SIGTERM to the whole job, as Slurm sends it) stops a sweep and
-/// its run-up cleanly: the run-up writes a checkpoint and an "interrupted" summary, and the same
-/// sweep command afterwards resumes it from that checkpoint instead of starting again at t = 0.
-#[test]
-fn sigterm_interrupts_a_sweep_and_the_next_sweep_resumes_from_the_checkpoint() {
+/// A one-run study of 0.4 s of path 1 into `base/out`, stopped once its run-up has made progress
+/// by `kill -TERM TARGET`, where `target(pid)` names the sweep's process (its pid) or its process
+/// group (minus it). The run-up must stop with a checkpoint and an "interrupted" summary, and the
+/// sweep must not report success. The study file's path.
+fn interrupted_one_run_sweep(base: &Path, target: impl Fn(u32) -> String) -> PathBuf {
     use std::os::unix::process::CommandExt;
-    let base = tmp("sigterm");
     let study = base.join("one.toml");
     std::fs::write(
         &study,
@@ -475,7 +474,7 @@ fn sigterm_interrupts_a_sweep_and_the_next_sweep_resumes_from_the_checkpoint() {
         .process_group(0)
         .spawn()
         .unwrap();
-    // Wait until the run-up has made progress, then SIGTERM the process group.
+    // Wait until the run-up has made progress, then SIGTERM the target.
     let log = out.join("runs/c1000/runup.log");
     let t0 = std::time::Instant::now();
     while !std::fs::read_to_string(&log).is_ok_and(|l| l.contains("%)")) {
@@ -486,9 +485,8 @@ fn sigterm_interrupts_a_sweep_and_the_next_sweep_resumes_from_the_checkpoint() {
         );
         std::thread::sleep(std::time::Duration::from_millis(50));
     }
-    let pgid = format!("-{}", child.id());
     assert!(Command::new("kill")
-        .args(["-TERM", "--", &pgid])
+        .args(["-TERM", "--", &target(child.id())])
         .status()
         .unwrap()
         .success());
@@ -505,7 +503,27 @@ fn sigterm_interrupts_a_sweep_and_the_next_sweep_resumes_from_the_checkpoint() {
     let t_stop = summary["t_end_s"].as_f64().expect("t_end_s");
     assert!(t_stop > 0.0 && t_stop < 0.4, "{summary}");
     assert!(out.join("runs/c1000/checkpoint/master.json").exists());
+    study
+}
 
+/// `kill PID` of the sweep alone (`timeout`, a batch system that signals the main process): the
+/// sweep passes the stop on to its run-up, which used to run on to its end (it shared the
+/// sweep's process group and so got only a signal sent to the whole group).
+#[test]
+fn sigterm_to_the_sweep_alone_stops_its_run_up() {
+    let base = tmp("sigterm_pid");
+    interrupted_one_run_sweep(&base, |pid| pid.to_string());
+    let _ = std::fs::remove_dir_all(&base);
+}
+
+/// A batch system's time limit (SIGTERM to the whole job, as Slurm sends it) stops a sweep and
+/// its run-up cleanly: the run-up writes a checkpoint and an "interrupted" summary, and the same
+/// sweep command afterwards resumes it from that checkpoint instead of starting again at t = 0.
+#[test]
+fn sigterm_interrupts_a_sweep_and_the_next_sweep_resumes_from_the_checkpoint() {
+    let base = tmp("sigterm");
+    let study = interrupted_one_run_sweep(&base, |pid| format!("-{pid}"));
+    let out = base.join("out");
     let (ok, err) = airring(&[
         "sweep",
         study.to_str().unwrap(),

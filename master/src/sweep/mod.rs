@@ -55,8 +55,8 @@ pub struct SweepOptions {
     pub overwrite: bool,
     /// Pass --serial-films to every run-up (one core each; set when jobs exceed half the cores).
     pub serial_films: bool,
-    /// Set by Ctrl-C or SIGTERM: no new run-ups are started; running ones stop themselves
-    /// (same signal) and leave a checkpoint, from which the next sweep resumes them.
+    /// Set by Ctrl-C or SIGTERM: no new run-ups are started; the running ones are told to stop
+    /// (`Running::pass_stop_on`) and leave a checkpoint, from which the next sweep resumes them.
     pub stop: Arc<AtomicBool>,
     /// Passed to every run-up as --checkpoint-every [s of simulated time]: bounds what a killed
     /// (not interrupted) run-up loses.
@@ -209,6 +209,30 @@ struct Running {
     child: Child,
     fraction: Arc<Mutex<f64>>,
     reader: Option<std::thread::JoinHandle<()>>,
+    /// The sweep's stop was passed on to it (SIGTERM, once).
+    stop_sent: bool,
+}
+
+impl Running {
+    /// Passes the sweep's stop on: SIGTERM, which a run-up answers by stopping at its next macro
+    /// step with a checkpoint and its summary (a second one would make it exit at once). A
+    /// run-up runs in a process group of its own (`start_run`), so a signal to the sweep alone
+    /// (`kill PID`, `timeout`, a batch system's time limit) and Ctrl-C in the terminal reach it
+    /// this way, and only this way: it used to share the sweep's group, so Ctrl-C reached it
+    /// directly but `kill PID` never did, and it ran on to its end.
+    fn pass_stop_on(&mut self) {
+        if self.stop_sent {
+            return;
+        }
+        self.stop_sent = true;
+        if let Ok(pid) = libc::pid_t::try_from(self.child.id()) {
+            // SAFETY: kill(2) with a pid this process spawned and has not reaped (`try_wait`
+            // reaps it only after this) and a valid signal number; it touches no memory.
+            unsafe {
+                libc::kill(pid, libc::SIGTERM);
+            }
+        }
+    }
 }
 
 /// Parses "( 12.5 %)" from a run-up's progress line.
@@ -260,6 +284,8 @@ fn start_run(spec: &RunSpec, opts: &SweepOptions) -> Result<Running, String> {
     cmd.stdin(Stdio::null())
         .stdout(Stdio::null())
         .stderr(Stdio::piped());
+    // Its own process group: the sweep passes its stop on (`Running::pass_stop_on`), once.
+    std::os::unix::process::CommandExt::process_group(&mut cmd, 0);
     let mut child = cmd
         .spawn()
         .map_err(|e| format!("starting {}: {e}", opts.exe.display()))?;
@@ -291,6 +317,7 @@ fn start_run(spec: &RunSpec, opts: &SweepOptions) -> Result<Running, String> {
         child,
         fraction,
         reader: Some(reader),
+        stop_sent: false,
     })
 }
 
@@ -415,6 +442,9 @@ pub fn sweep(study: &Study, study_text: &str, opts: &SweepOptions) -> Result<Swe
         }
         if running.is_empty() {
             break;
+        }
+        if opts.stop.load(Ordering::Relaxed) {
+            running.iter_mut().for_each(Running::pass_stop_on);
         }
         let mut i = 0;
         let mut changed = false;
