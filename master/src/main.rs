@@ -36,11 +36,12 @@ enum Command {
         system: PathBuf,
         #[command(flatten)]
         common: Common,
-        /// Clearance C [um] for the run-up analysis (eccentricities, plots), if the system is a run-up.
+        /// Clearance C [um] for the run-up analysis (eccentricities, plots) of a system whose air
+        /// films are not named film_C and film_T (those give their own; the flag is refused there).
         #[arg(long)]
         clearance: Option<f64>,
-        /// Step height dH [um] for the orbit plots (default 40).
-        #[arg(long)]
+        /// Step height dH [um] for the orbit plots, with --clearance (default 40).
+        #[arg(long, requires = "clearance")]
         dh: Option<f64>,
     },
     /// Continue an interrupted run from its last checkpoint.
@@ -306,6 +307,24 @@ fn finish(report: master::run::RunReport, out: &Path) -> ExitCode {
         }
         None if report.interrupted => ExitCode::from(130),
         None => ExitCode::SUCCESS,
+    }
+}
+
+/// `run --clearance / --dh` describe the bearings of a system without air films `film_C` and
+/// `film_T`: where it has them, the analysis takes their own bores (as `classify` does), and a
+/// flag that differs would put one clearance in the summary and another in the films.
+fn check_no_films_named(system: &Path) -> Result<(), String> {
+    match master::run_folder::bores_of_system(system)? {
+        Some([c, t]) => Err(format!(
+            "--clearance / --dh: the system's films film_C and film_T name their own bores \
+             (C = {} um and {} um, dH = {} um and {} um), which the run's analysis takes; \
+             --clearance and --dh are for systems without those films",
+            master::runup::fmt_number(c.c_m * 1e6),
+            master::runup::fmt_number(t.c_m * 1e6),
+            master::runup::fmt_number(c.dh_m * 1e6),
+            master::runup::fmt_number(t.dh_m * 1e6)
+        )),
+        None => Ok(()),
     }
 }
 
@@ -584,6 +603,9 @@ fn main() -> ExitCode {
             }
             let sys = cosim::System::load(&system).map_err(|e| e.to_string())?;
             cosim::setup::check_output_interval_whole(&sys).map_err(|e| e.to_string())?;
+            if clearance.is_some() || dh.is_some() {
+                check_no_films_named(&system)?;
+            }
             let out = common.out.clone().unwrap_or_else(|| {
                 default_out(system.file_stem().and_then(|s| s.to_str()).unwrap_or("run"))
             });
@@ -629,11 +651,18 @@ fn main() -> ExitCode {
                     .error
                     .as_deref()
                     .map_or(String::new(), |e| format!(": {e}"));
+                let what = match old.status {
+                    // Its summary still says "running": killed before it could say how it ended.
+                    master::summary::RunStatus::Running => "was killed before it ended, and \
+                        --checkpoint-every was not given"
+                        .to_string(),
+                    master::summary::RunStatus::Interrupted => format!("was interrupted{why}"),
+                    other => format!("{}{why}", other.as_str()),
+                };
                 return Err(format!(
-                    "{}: no checkpoint to resume from (the run {}{why}); run it again with \
+                    "{}: no checkpoint to resume from (the run {what}); run it again with \
                      --overwrite",
                     dir.display(),
-                    old.status.as_str()
                 ));
             }
             let opts = RunOptions {

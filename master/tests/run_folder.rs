@@ -581,6 +581,55 @@ fn resume_without_a_checkpoint_says_why_before_it_starts() {
         ) && !err.contains("resuming"),
         "{err}"
     );
+    // Killed (SIGKILL) before it ended, without --checkpoint-every: its summary says "running".
+    let s = master::summary::RunSummary {
+        status: master::summary::RunStatus::Running,
+        ..Default::default()
+    };
+    s.write(&dir).unwrap();
+    let (ok, err) = airring(&["resume", dir.to_str().unwrap()], &[]);
+    assert!(
+        !ok && err.contains(
+            "no checkpoint to resume from (the run was killed before it ended, and \
+             --checkpoint-every was not given); run it again with --overwrite"
+        ),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `airring run --clearance / --dh` on a system whose films name their own bores is refused
+/// before it starts: the summary's clearance and onset used to follow the flag while the films
+/// ran with theirs (and `classify` of the same folder refused the flag).
+#[test]
+fn a_run_refuses_a_clearance_where_its_films_name_theirs() {
+    let dir = tmp("run-clearance-films");
+    // A path-1 system file whose rows fall on macro steps (the recorded one's 20 us do not).
+    let text = std::fs::read_to_string(root().join("master/tests/data/recorded/path1/system.toml"))
+        .unwrap()
+        .replace("macro_step = \"20 us\"", "macro_step = \"50 us\"");
+    let sys = dir.join("path1.toml");
+    std::fs::write(&sys, text).unwrap();
+    for flags in [
+        &["--clearance", "60"][..],
+        &["--clearance", "20", "--dh", "40"],
+    ] {
+        let out = dir.join("out");
+        let mut args = vec!["run", sys.to_str().unwrap(), "--out", out.to_str().unwrap()];
+        args.extend_from_slice(flags);
+        let (ok, err) = airring(&args, &[]);
+        assert!(
+            !ok && err.contains(
+                "the system's films film_C and film_T name their own bores (C = 20 um and 20 \
+                 um, dH = 40 um and 40 um)"
+            ),
+            "{flags:?}: {err}"
+        );
+        assert!(!out.exists(), "{flags:?}: nothing written");
+    }
+    // --dh describes the bore of --clearance: alone it is refused by the parser.
+    let (ok, err) = airring(&["run", sys.to_str().unwrap(), "--dh", "40"], &[]);
+    assert!(!ok && err.contains("--clearance"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
