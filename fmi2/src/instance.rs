@@ -340,6 +340,7 @@ impl<M: Model> Instance<M> {
                      model's error control"
                 ));
             }
+            M::check_tolerance(tol).or_else(err)?;
         }
         let c = &mut self.core;
         c.start_time = start;

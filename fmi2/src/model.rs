@@ -174,6 +174,14 @@ pub trait Model: Clone + Send + Sized + 'static {
         Ok(())
     }
 
+    /// Refuses a tolerance of fmi2SetupExperiment (fmi3EnterInitializationMode) that the model's
+    /// error control cannot reach, at that call, naming the tolerance: otherwise the model fails
+    /// its first step with a message about its solver, not about the master's setting. The layer
+    /// has checked that it lies in (0, 1); the default takes any.
+    fn check_tolerance(_tolerance: f64) -> Result<(), String> {
+        Ok(())
+    }
+
     /// Advances from `t` to `t + h` with inputs following `inputs`. Never panics on bad data:
     /// returns `Discard` or `Error` with a reason.
     fn do_step(

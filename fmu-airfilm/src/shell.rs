@@ -229,6 +229,18 @@ impl Model for AirFilmFmu {
         }
     }
 
+    fn check_tolerance(tolerance: f64) -> Result<(), String> {
+        if tolerance < crate::params::MIN_RTOL {
+            return Err(format!(
+                "tolerance {} is below {}, the smallest relative tolerance the air film's \
+                 Newton iteration reaches in double precision",
+                bearing::num::Num(tolerance),
+                bearing::num::Num(crate::params::MIN_RTOL)
+            ));
+        }
+        Ok(())
+    }
+
     fn new(store: &Store, start_time: f64, _log: &mut dyn Log) -> Result<Self, String> {
         let params = params_from(store);
         params.validate().map_err(|e| in_units(e.to_string()))?;

@@ -384,6 +384,14 @@ fn bad_input_gives_clear_errors() {
             },
             "dH",
         ),
+        // Below the tolerance the Newton iteration reaches in double precision (MIN_RTOL).
+        (
+            BearingParams {
+                rtol: 1e-11,
+                ..prm.clone()
+            },
+            "rtol",
+        ),
     ] {
         let e = AirFilm::new(bad).unwrap_err();
         println!("{e}");

@@ -642,6 +642,18 @@ impl Model for RotorFmu {
         Ok(())
     }
 
+    fn check_tolerance(tolerance: f64) -> Result<(), String> {
+        if tolerance < crate::params::MIN_RTOL {
+            return Err(format!(
+                "tolerance {} is below {}, the smallest relative tolerance the rotor's BDF2 \
+                 steps reach in double precision",
+                bearing::num::Num(tolerance),
+                bearing::num::Num(crate::params::MIN_RTOL)
+            ));
+        }
+        Ok(())
+    }
+
     fn new(store: &Store, start_time: f64, _log: &mut dyn Log) -> Result<Self, String> {
         Self::check_start_time(start_time)?;
         let params = params_from(store);

@@ -31,8 +31,8 @@ enum Command {
     /// Any system described by a TOML system file.
     #[command(allow_negative_numbers = true)]
     Run {
-        /// The system file (TOML; the format is in docs/fmu-guide.md and the cosim crate's
-        /// `system` module; a run folder's system.toml is one).
+        /// The system file (TOML; its format is documented in cosim/src/system.rs, the cosim
+        /// crate's `system` module; a run folder's system.toml is one).
         system: PathBuf,
         #[command(flatten)]
         common: Common,

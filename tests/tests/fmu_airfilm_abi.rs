@@ -359,3 +359,32 @@ fn an_input_set_in_step_mode_changes_no_output_before_the_next_step() {
     s.get_real(&outputs, &mut after).unwrap();
     assert_ne!(before[2], after[2], "eps follows the new journal position");
 }
+
+/// A tolerance below what the film's Newton iteration reaches in double precision (1e-10) is
+/// refused by fmi2SetupExperiment, naming the tolerance; at 1e-11 the film failed its first step
+/// with a Newton failure at t = 0 (FMPy's `relative_tolerance`). 1e-10 runs.
+#[test]
+fn a_tolerance_the_film_cannot_reach_is_refused_where_it_is_given() {
+    let fmu = load("airfilm");
+    let book = LogBook::default();
+    let s = fmu.instantiate("tol", false, book.handler()).unwrap();
+    let e = s.setup_experiment(Some(1e-11), 0.0, None).unwrap_err();
+    assert_eq!(e.status, Status::Error);
+    assert!(
+        book.contains("tolerance 1e-11 is below 1e-10"),
+        "{:?}",
+        book.0.lock().unwrap()
+    );
+    // The instance is still usable: the smallest tolerance runs an eccentric whirl.
+    s.setup_experiment(Some(1e-10), 0.0, None).unwrap();
+    s.enter_initialization_mode().unwrap();
+    set_inputs(&s, 0.0);
+    s.exit_initialization_mode().unwrap();
+    let h = 1e-5;
+    for k in 0..10 {
+        let t = k as f64 * h;
+        set_inputs(&s, t);
+        s.do_step(t, h).unwrap();
+    }
+    assert!(forces(&s).iter().all(|f| f.is_finite() && *f != 0.0));
+}

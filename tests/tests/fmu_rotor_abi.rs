@@ -141,3 +141,23 @@ fn a_start_time_other_than_zero_is_refused_where_it_is_given() {
     s.exit_initialization_mode().unwrap();
     s.do_step(0.0, 1e-5).unwrap();
 }
+
+/// A tolerance below what the rotor's BDF2 reaches in double precision (1e-12) is refused by
+/// fmi2SetupExperiment, naming the tolerance (at 1e-14 the rotor failed its first steps).
+#[test]
+fn a_tolerance_the_rotor_cannot_reach_is_refused_where_it_is_given() {
+    let fmu = load("rotor");
+    let book = LogBook::default();
+    let s = fmu.instantiate("tol", false, book.handler()).unwrap();
+    let e = s.setup_experiment(Some(1e-13), 0.0, None).unwrap_err();
+    assert_eq!(e.status, Status::Error);
+    assert!(
+        book.contains("tolerance 1e-13 is below 1e-12"),
+        "{:?}",
+        book.0.lock().unwrap()
+    );
+    s.setup_experiment(Some(1e-12), 0.0, None).unwrap();
+    s.enter_initialization_mode().unwrap();
+    s.exit_initialization_mode().unwrap();
+    s.do_step(0.0, 1e-5).unwrap();
+}
