@@ -375,8 +375,11 @@ impl<'a> Execution<'a> {
             let t = self.built.cosim.time_s();
             // One sample at a macro point where output times are due. Outputs exist only at macro
             // points: an output interval shorter than the macro step gives one row per macro
-            // point, never repeated rows of the same time.
-            if output_time(next_output, interval) <= t + 1e-9 * h {
+            // point, never repeated rows of the same time. The stop time gets its row also where
+            // it falls between output times: the run's final state belongs in its series (a stop
+            // at 1.5 ms with rows every 1 ms ended the series at 1 ms).
+            let at_stop = self.step_index >= n_steps;
+            if at_stop || output_time(next_output, interval) <= t + 1e-9 * h {
                 self.record()?;
                 for o in observers.iter_mut() {
                     o.sample(t, &self.values)?;

@@ -24,7 +24,7 @@
 //! long_steps = { factor = 2, windows = [[0.08, 0.55]] }
 //!
 //! [output]
-//! interval = "100 us"
+//! interval = "100 us"                # rows at its multiples, and at the stop time
 //! variables = ["rotor.omega", "film_C.Fx"]
 //! ```
 //! Every error names the file, the line and the field. A run's copy of a system file whose FMU

@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{coupled, fmu_dir, tmp};
+use common::{coupled, fmu_dir, run_text, tmp};
 use cosim::algorithm::Event;
 use cosim::observer::{Observer, RunStart};
 use cosim::timeseries::{self, CsvObserver};
@@ -403,4 +403,28 @@ fn a_checkpoint_is_continued_only_by_its_own_run_and_every_field_is_checked() {
     assert!(e.contains("checksum differs"), "{e}");
     assert_eq!(std::fs::read(&csv).unwrap(), bytes, "not cut");
     let _ = std::fs::remove_dir_all(&root);
+}
+
+/// A stop time between output times still gets its row: the run's final state is in the series
+/// (a stop at 1.5 ms with rows every 1 ms used to end the series at 1 ms), and it is the state
+/// the run ended in.
+#[test]
+fn the_stop_time_has_its_row_between_output_times() {
+    let text =
+        coupled("gauss-seidel", 0.001, 1, 0.0015).replace("interval = 0.0015", "interval = 0.001");
+    let (report, rows) = run_text("stop_row", &text);
+    assert_eq!(report.t_end_s, 0.0015);
+    let times: Vec<f64> = rows.iter().map(|r| r[0]).collect();
+    assert_eq!(times, vec![0.0, 0.001, 0.0015]);
+    // The last row is the state at the stop time: within the coupling error of the exact
+    // solution there (x_a moves by ~1e-5 between 1 and 1.5 ms; the error at 1 ms steps is ~1e-7).
+    let xa = rows[2][1];
+    assert!((xa - common::exact_xa(0.0015)).abs() < 1e-6, "{xa}");
+    assert!((xa - rows[1][1]).abs() > 1e-6, "the row moved on from 1 ms");
+    // On the grid nothing changes: no second row at the stop time.
+    let on_grid =
+        coupled("gauss-seidel", 0.001, 1, 0.002).replace("interval = 0.002", "interval = 0.001");
+    let (_, rows) = run_text("stop_row_on_grid", &on_grid);
+    let times: Vec<f64> = rows.iter().map(|r| r[0]).collect();
+    assert_eq!(times, vec![0.0, 0.001, 0.002]);
 }
