@@ -61,8 +61,9 @@ enum Command {
         /// Output folder (default: `runs/sweep-<study name>`).
         #[arg(long)]
         out: Option<PathBuf>,
-        /// Run-ups at a time (default: one per core, each stepping its films one after the other).
-        #[arg(long)]
+        /// Run-ups at a time, 1 or more (default: one per core, each stepping its films one after
+        /// the other).
+        #[arg(long, value_parser = jobs_at_least_one)]
         jobs: Option<usize>,
         /// Run only every n-th grid point: k/n runs the points with index i where i mod n = k - 1.
         #[arg(long)]
@@ -133,8 +134,8 @@ enum Command {
         /// The first speed lies this fraction above the linear threshold.
         #[arg(long, default_value_t = 0.1)]
         above: f64,
-        /// Cells at once (default: one per core; each steps its films serially when > 1).
-        #[arg(long)]
+        /// Cells at once, 1 or more (default: one per core; each steps its films serially when > 1).
+        #[arg(long, value_parser = jobs_at_least_one)]
         jobs: Option<usize>,
         /// A run-up sweep's study.csv to compare the classes with, cell by cell.
         #[arg(long)]
@@ -519,6 +520,18 @@ fn quiet_on_closed_stdout(command: &Command) {
         unsafe {
             libc::signal(libc::SIGPIPE, libc::SIG_DFL);
         }
+    }
+}
+
+/// `--jobs`: a whole number of run-ups (cells) at a time, 1 or more (0 used to be taken and run
+/// one at a time all the same).
+fn jobs_at_least_one(text: &str) -> Result<usize, String> {
+    match text.trim().parse::<usize>() {
+        Ok(0) => Err("0 run-ups at a time would run none: give 1 or more".into()),
+        Ok(n) => Ok(n),
+        Err(_) => Err(format!(
+            "'{text}' is not a whole number of run-ups (1 or more)"
+        )),
     }
 }
 

@@ -776,3 +776,27 @@ fn a_grid_over_another_parameter_gets_its_own_map() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `--jobs 0` is refused before anything runs (it was taken, printed "0 at a time" and ran the
+/// study one run-up at a time).
+#[test]
+fn jobs_must_be_one_or_more() {
+    let base = tmp("jobs0");
+    let out = base.join("out");
+    for cmd in ["sweep", "sweep-orbits"] {
+        let (ok, err) = airring(&[
+            cmd,
+            "studies/smoke.toml",
+            "--out",
+            out.to_str().unwrap(),
+            "--jobs",
+            "0",
+        ]);
+        assert!(
+            !ok && err.contains("0 run-ups at a time would run none: give 1 or more"),
+            "{cmd}: {err}"
+        );
+        assert!(!out.exists(), "{cmd}: nothing written");
+    }
+    let _ = std::fs::remove_dir_all(&base);
+}

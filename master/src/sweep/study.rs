@@ -248,6 +248,12 @@ impl Study {
             // Every key on one axis only: a key in two axes would silently overwrite itself.
             let mut seen: Vec<String> = Vec::new();
             let claim = |n: &str, seen: &mut Vec<String>| -> Result<(), String> {
+                // The grid's value would silently win over the fixed one.
+                if fixed.contains_key(n) {
+                    return Err(err(format!(
+                        "{where_}: '{n}' is also in [fixed]: a key is either fixed or varied"
+                    )));
+                }
                 if seen.iter().any(|s| s == n) {
                     return Err(err(format!(
                         "{where_}: '{n}' is given twice (in cases and as a list, or in two cases \
@@ -672,6 +678,15 @@ d = 50
             (
                 "[[grid]]\ncases = [{ c = 500 }, { d = 50 }]\n",
                 "every case must set the same keys",
+            ),
+            // Fixed and varied: the grid's value silently won.
+            (
+                "[fixed]\nc = 500\n[[grid]]\nc = [500, 1000]\n",
+                "grid 1: 'c' is also in [fixed]",
+            ),
+            (
+                "[fixed]\nclearance = 15\n[[grid]]\ncases = [{ clearance = 10, dh = 20 }]\n",
+                "'clearance' is also in [fixed]",
             ),
         ] {
             let e = Study::parse(text, Path::new("x.toml")).unwrap_err();
