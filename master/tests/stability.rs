@@ -378,3 +378,36 @@ fn unbalance_response_matches_a_nonlinear_runup_in_the_linear_regime() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Each way a `--speeds` grid can be wrong is named (it was always "expected from:to:step"), a
+/// grid of more than `MAX_SPEEDS` analyses is refused, and one speed is a grid too.
+#[test]
+fn speed_grids_parse_or_say_what_is_wrong() {
+    assert_eq!(
+        parse_speeds("100:200:50").unwrap(),
+        vec![100.0, 150.0, 200.0]
+    );
+    assert_eq!(parse_speeds("500").unwrap(), vec![500.0]);
+    for (spec, why) in [
+        ("0:100:50", "the speeds must be > 0 Hz (from = 0)"),
+        ("100:50:10", "to = 50 Hz lies below from = 100 Hz"),
+        ("100:200:0", "the step must be > 0 Hz (step = 0)"),
+        (
+            "1:1e9:1e8",
+            "the speeds must be at most 20000 Hz (to = 1000000000)",
+        ),
+        ("nan:200:50", "from must be a finite number of Hz"),
+        ("100:abc:50", "to 'abc' is not a number (Hz)"),
+        (
+            "100:200",
+            "expected from:to:step in Hz (e.g. 100:2000:50) or one speed",
+        ),
+        ("10:20:0.001", "10001 speeds, at most 1000"),
+    ] {
+        let e = parse_speeds(spec).unwrap_err();
+        assert!(
+            e.contains(why) && e.starts_with(&format!("--speeds '{spec}'")),
+            "{spec}: {e}"
+        );
+    }
+}

@@ -8,7 +8,7 @@ pub struct OrbitsArgs {
     /// The rotor and its bearings, as for `airring runup`.
     #[command(flatten)]
     pub bearing: crate::design::DesignArgs,
-    /// Constant speeds from:to:step [Hz]; each is simulated until its whirl settles and the
+    /// Constant speeds from:to:step [Hz], or one speed; each is simulated until its whirl settles and the
     /// orbit is shot from there.
     #[arg(long)]
     pub speeds: String,

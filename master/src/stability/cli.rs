@@ -10,7 +10,7 @@ pub struct StabilityArgs {
     /// The rotor and its bearings, as for `airring runup`.
     #[command(flatten)]
     pub bearing: crate::design::DesignArgs,
-    /// Speed grid from:to:step [Hz].
+    /// Speed grid from:to:step [Hz] (at most 1000 speeds), or one speed.
     #[arg(long, default_value = "100:2000:50")]
     pub speeds: String,
     /// Output folder for stability.json and the diagrams.

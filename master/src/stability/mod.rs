@@ -285,19 +285,58 @@ pub fn analyse_with_equilibria(
     Ok((report, solved))
 }
 
-/// "from:to:step" [Hz] -> the speed grid (inclusive of `to` within rounding).
+/// Most speeds one `--speeds` grid may give: each is an analysis of its own (an equilibrium and
+/// an eigenvalue problem, or an orbit); 10 001 were taken before and ran for minutes without a
+/// line of output.
+pub const MAX_SPEEDS: usize = 1000;
+
+/// "from:to:step" [Hz] -> the speed grid (inclusive of `to` within rounding); a single "F" is the
+/// one speed F. Each way a grid can be wrong is named.
 pub fn parse_speeds(spec: &str) -> Result<Vec<f64>, String> {
-    let bad = || format!("--speeds '{spec}': expected from:to:step in Hz, e.g. 100:2000:50");
-    let v: Vec<f64> = spec
-        .split(':')
-        .map(|x| x.trim().parse::<f64>())
-        .collect::<Result<_, _>>()
-        .map_err(|_| bad())?;
-    let [from, to, step] = v[..] else {
-        return Err(bad());
+    let head = format!("--speeds '{spec}'");
+    let parts: Vec<&str> = spec.split(':').collect();
+    if !(parts.len() == 1 || parts.len() == 3) {
+        return Err(format!(
+            "{head}: expected from:to:step in Hz (e.g. 100:2000:50) or one speed"
+        ));
+    }
+    let mut v = Vec::with_capacity(3);
+    for (part, what) in parts.iter().zip(["from", "to", "step"]) {
+        let x: f64 = part
+            .trim()
+            .parse()
+            .map_err(|_| format!("{head}: {what} '{}' is not a number (Hz)", part.trim()))?;
+        if !x.is_finite() {
+            return Err(format!("{head}: {what} must be a finite number of Hz"));
+        }
+        v.push(x);
+    }
+    let max_hz = crate::runup::MAX_SPEED_HZ;
+    let (from, to, step) = match v[..] {
+        [f] => (f, f, 1.0),
+        [from, to, step] => (from, to, step),
+        _ => unreachable!("one or three parts"),
     };
-    if !(from > 0.0 && to >= from && step > 0.0 && (to - from) / step <= 10_000.0) {
-        return Err(bad());
+    if from <= 0.0 {
+        return Err(format!("{head}: the speeds must be > 0 Hz (from = {from})"));
+    }
+    if to > max_hz {
+        return Err(format!(
+            "{head}: the speeds must be at most {max_hz} Hz (to = {to}), as a run-up's"
+        ));
+    }
+    if to < from {
+        return Err(format!("{head}: to = {to} Hz lies below from = {from} Hz"));
+    }
+    if step <= 0.0 {
+        return Err(format!("{head}: the step must be > 0 Hz (step = {step})"));
+    }
+    let count = (to - from) / step + 1.0;
+    if count > MAX_SPEEDS as f64 + 1e-9 {
+        return Err(format!(
+            "{head}: {count:.0} speeds, at most {MAX_SPEEDS} (each is an analysis of its own): \
+             take a larger step"
+        ));
     }
     let n = ((to - from) / step + 1e-9).floor() as usize;
     Ok((0..=n).map(|k| from + step * k as f64).collect())
