@@ -284,7 +284,12 @@ pub fn run_orbit(
     interval_s: f64,
     input_derivatives: bool,
 ) -> Result<Vec<Row>, String> {
-    if !(start_s.is_finite() && stop_s.is_finite() && stop_s > start_s) {
+    if !(start_s.is_finite() && stop_s.is_finite()) {
+        return Err(format!(
+            "start time {start_s} s and stop time {stop_s} s must be finite numbers"
+        ));
+    }
+    if stop_s <= start_s {
         return Err(format!(
             "stop time {stop_s} s must be after the start time {start_s} s"
         ));
@@ -388,6 +393,12 @@ pub fn run_cli(a: &OrbitArgs) -> Result<(), String> {
     if !(a.step.is_finite() && a.step > 0.0) {
         return Err(format!("--step {} us must be > 0", a.step));
     }
+    // Checked before the note on the table's range, which a non-finite time would only confuse.
+    for (flag, t) in [("--start", a.start), ("--stop", stop)] {
+        if !t.is_finite() {
+            return Err(format!("{flag} = {t} s must be a finite number"));
+        }
+    }
     let (first, last) = (table.t_s[0], *table.t_s.last().expect("at least one row"));
     if a.start < first || stop > last {
         // FMPy holds the inputs outside the table too; said, since it is rarely meant.
@@ -490,6 +501,13 @@ mod tests {
             e,
             "invalid air-film parameter C = -2.5e-5 m (-25 um): must be > 0"
         );
+        // A time that is not finite is called so (it read "must be after the start time").
+        for stop in [f64::INFINITY, f64::NAN] {
+            let e = run_orbit(&t, &[], 0.0, stop, 1e-5, false).unwrap_err();
+            assert!(e.ends_with("must be finite numbers"), "{e}");
+        }
+        let e = run_orbit(&t, &[], 1e-3, 1e-3, 1e-5, false).unwrap_err();
+        assert!(e.contains("must be after the start time"), "{e}");
     }
 
     #[test]
