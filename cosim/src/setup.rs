@@ -162,11 +162,12 @@ fn set_parameter(
 /// runs; an application that promises evenly spaced rows (airring's `run`, as its `runup`) checks
 /// this first: 70 us at a 50 us step gave rows 50 and 100 us apart.
 pub fn check_output_interval_whole(sys: &System) -> Result<(), SystemError> {
+    // The grid's own errors first: a macro step longer than the run (a bare `macro_step = 50`
+    // is 50 s) was reported as an output interval that is not a whole number of it.
+    let (macro_step_s, _, interval_s) = time_grid(sys)?;
     let Some(v) = &sys.file.output.interval else {
         return Ok(());
     };
-    let macro_step_s = sys.seconds(&sys.file.algorithm.macro_step, "algorithm.macro_step")?;
-    let interval_s = sys.seconds(v, "output.interval")?;
     let per_row = (interval_s / macro_step_s).round();
     if per_row < 1.0 || (interval_s - per_row * macro_step_s).abs() > 1e-9 * interval_s {
         return Err(sys.error_at(
@@ -182,7 +183,9 @@ pub fn check_output_interval_whole(sys: &System) -> Result<(), SystemError> {
 }
 
 /// Loads, instantiates, parameterizes, connects and initializes everything in the system file.
-pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
+/// The system's time grid [s]: macro step, stop time, output interval (ten macro steps where it
+/// gives none), checked to be one a run can cover.
+fn time_grid(sys: &System) -> Result<(f64, f64, f64), SystemError> {
     let f = &sys.file;
     let alg = &f.algorithm;
     let macro_step_s = sys.seconds(&alg.macro_step, "algorithm.macro_step")?;
@@ -222,6 +225,13 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
             None => SystemError(format!("{}: {field}: {msg}", sys.path.display())),
         });
     }
+    Ok((macro_step_s, stop_time_s, output_interval_s))
+}
+
+pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
+    let f = &sys.file;
+    let alg = &f.algorithm;
+    let (macro_step_s, stop_time_s, output_interval_s) = time_grid(sys)?;
     let long_steps = match &alg.long_steps {
         None => None,
         Some(e) => {

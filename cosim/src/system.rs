@@ -164,7 +164,15 @@ impl System {
                 .map(|s| line_of(&text, s.start))
                 .map(|l| format!(":{l}"))
                 .unwrap_or_default();
-            SystemError(format!("{}{line}: {}", path.display(), e.message()))
+            // The parser's message names the type it wanted, not the key: the key the value
+            // belongs to, read from the text before it ("integer `-1`, expected u8" alone did
+            // not say which of the file's numbers was meant).
+            let key = e
+                .span()
+                .and_then(|s| key_before(&text, s.start))
+                .map(|k| format!(" {k}:"))
+                .unwrap_or_default();
+            SystemError(format!("{}{line}:{key} {}", path.display(), e.message()))
         })?;
         Ok(System {
             file,
@@ -264,6 +272,19 @@ impl System {
 }
 
 /// 1-based line number of a byte offset.
+/// The key whose value starts at `offset`, from the text before it on its line: `order = -1`
+/// and `{ x0 = -1 }` give `order` and `x0`. None where no `=` precedes it on the line.
+fn key_before(text: &str, offset: usize) -> Option<String> {
+    let before = text.get(..offset)?;
+    let line = &before[before.rfind('\n').map_or(0, |i| i + 1)..];
+    let head = line.trim_end().strip_suffix('=')?.trim_end();
+    let start = head
+        .rfind(|c: char| !(c.is_alphanumeric() || matches!(c, '_' | '-' | '.' | '"')))
+        .map_or(0, |i| i + 1);
+    let key = head[start..].trim_matches('"');
+    (!key.is_empty()).then(|| key.to_string())
+}
+
 pub fn line_of(text: &str, offset: usize) -> usize {
     text[..offset.min(text.len())]
         .bytes()

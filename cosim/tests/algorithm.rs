@@ -202,6 +202,11 @@ fn system_file_errors_name_file_line_and_field() {
             good.replace("x0 = \"1 m\"", "x0 = \"1e999 m\""),
             "is not finite",
         ),
+        // A value of the wrong type: the parser names the type, the key comes from the text.
+        (
+            good.replace("extrapolation_order = 1", "extrapolation_order = -1"),
+            ":23: extrapolation_order: invalid value: integer `-1`, expected u8",
+        ),
     ];
     for (k, (text, want)) in cases.iter().enumerate() {
         let path = dir.join(format!("case{k}.toml"));
@@ -219,6 +224,18 @@ fn system_file_errors_name_file_line_and_field() {
             "case {k}: '{err}' must name the file"
         );
     }
+    // The output interval's check reports the macro step's own error first: a bare number is
+    // seconds, and 50 s was reported as an interval that is not a whole number of it.
+    let path = dir.join("bare_step.toml");
+    std::fs::write(&path, good.replace("macro_step = 0.01", "macro_step = 50")).unwrap();
+    let sys = System::load(&path).unwrap();
+    let err = cosim::setup::check_output_interval_whole(&sys)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains(":21: algorithm.macro_step: 50 s is longer than the stop time 0.2 s"),
+        "{err}"
+    );
 }
 
 /// `sys` run into `dir` with checkpoints every 0.05 s, halted at 0.1234 s.
