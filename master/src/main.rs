@@ -370,10 +370,27 @@ fn classify_command(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, S
     };
     let series = master::analysis::load_run(dir, c_m)?;
     let cl = master::analysis::classify(&series);
+    // A run that did not complete (interrupted, failed, or killed while its summary still said
+    // "running") is classified on what it simulated, as its own summary says: said here too.
+    let status = master::summary::RunSummary::read(dir).map(|s| s.status);
+    let note = match status {
+        Some(master::summary::RunStatus::Completed) => None,
+        other => Some(format!(
+            "classified on the part of the run-up that was simulated (to t = {} s; the run {})",
+            series.t_s.last().copied().unwrap_or(0.0),
+            match other {
+                Some(master::summary::RunStatus::Running) => "was killed before it ended",
+                Some(master::summary::RunStatus::Interrupted) => "was interrupted",
+                Some(_) => "failed",
+                None => "has no summary.json",
+            }
+        )),
+    };
     let out = serde_json::json!({
         "run": dir.display().to_string(),
         "clearance_um": { "C": c_m[0] * 1e6, "T": c_m[1] * 1e6 },
         "classification": cl.class.as_str(),
+        "classification_note": note,
         "onset_time_s": cl.onset_time_s,
         "onset_speed_hz": cl.onset_speed_hz,
         "first_bearing": cl.first_bearing,

@@ -121,3 +121,60 @@ fn classify_reads_a_folder_of_an_earlier_version() {
     assert_eq!(v["classification"], "path2b", "{v}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `airring classify DIR` on a run that did not complete says so, as the run's own summary does:
+/// a killed run (its summary still "running") was classified "stable" without a word.
+#[test]
+fn classify_says_when_the_run_did_not_complete() {
+    let dir = std::env::temp_dir().join(format!("airring-partial-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(data("path1").join("system.toml"), dir.join("system.toml")).unwrap();
+    // The first 0.5 s of path 1, as a run killed there leaves it.
+    let text: String = csv("path1")
+        .lines()
+        .take_while(|l| {
+            l.split(',')
+                .next()
+                .and_then(|t| t.parse::<f64>().ok())
+                .is_none_or(|t| t <= 0.5)
+        })
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(dir.join("timeseries.csv"), text).unwrap();
+    let classify = |status: master::summary::RunStatus| -> serde_json::Value {
+        let s = master::summary::RunSummary {
+            status,
+            ..Default::default()
+        };
+        s.write(&dir).unwrap();
+        let out = Command::new(env!("CARGO_BIN_EXE_airring"))
+            .args(["classify", dir.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let v = classify(master::summary::RunStatus::Running);
+    let note = v["classification_note"].as_str().unwrap_or_default();
+    assert!(
+        note.starts_with("classified on the part of the run-up that was simulated (to t = 0.5 s")
+            && note.ends_with("the run was killed before it ended)"),
+        "{v}"
+    );
+    let v = classify(master::summary::RunStatus::Interrupted);
+    assert!(
+        v["classification_note"]
+            .as_str()
+            .unwrap_or_default()
+            .ends_with("the run was interrupted)"),
+        "{v}"
+    );
+    let v = classify(master::summary::RunStatus::Completed);
+    assert!(v["classification_note"].is_null(), "{v}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
