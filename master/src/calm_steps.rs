@@ -143,7 +143,7 @@ pub fn plan(s: &RunupSettings, cache: Option<&LinearCache>) -> CalmPlan {
 /// One line for the terminal: the window and what it rests on.
 pub fn describe(plan: &CalmPlan, calm_macro_step_us: f64) -> String {
     let basis = format!(
-        "least damping ratio >= {CALM_DAMPING_RATIO} in the linear analysis, {:.1} s",
+        "least damping ratio >= {CALM_DAMPING_RATIO} in the linear analysis, which took {:.1} s of wall time",
         plan.wall_time_s
     );
     match (plan.windows_s.first(), &plan.note) {

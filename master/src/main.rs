@@ -573,6 +573,9 @@ fn main() -> ExitCode {
             check_checkpoint_every(common.checkpoint_every)?;
             let out = common.out.clone().unwrap_or_else(|| default_out(&s.preset));
             master::out_folder::check_new_run(&out, common.overwrite)?;
+            // The FMUs are found before the calm plan's analysis runs (a wrong --fmu-dir was
+            // reported only after it).
+            let dir = fmu_dir(args.fmu_dir.clone())?;
             if let (Some(calm_us), Some(_)) = (s.calm_macro_step_us, s.calm_factor()) {
                 // A cache that cannot be opened only makes the plan slower.
                 let cache = args.linear_cache.as_deref().and_then(|d| {
@@ -584,7 +587,6 @@ fn main() -> ExitCode {
                 s.calm_windows_s = plan.windows_s.clone();
                 eprintln!("{}", master::calm_steps::describe(&plan, calm_us));
             }
-            let dir = fmu_dir(args.fmu_dir.clone())?;
             // TOML is UTF-8: a folder whose name is not cannot be written into a system file.
             let dir_text = dir.to_str().ok_or_else(|| {
                 format!(

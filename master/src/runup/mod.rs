@@ -635,12 +635,25 @@ struct Output {
 pub fn describe_bearings(s: &RunupSettings) -> Result<String, String> {
     let (rotor, films) = (s.rotor_params()?, s.film_params()?);
     let pair = |c: f64, t: f64| {
-        // Rounded for reading (unit conversions leave 1e-12 residues).
-        let r = |x: f64| (x * 1e9).round() / 1e9;
+        // Rounded to 12 significant digits for reading (unit conversions leave residues in the
+        // last digits: 1e30 N/m read 9.999999999999999e26 N/mm).
+        let r = |x: f64| {
+            if x == 0.0 || !x.is_finite() {
+                return x;
+            }
+            // By an exact power of ten on the side where it is one (1e18, not 1e-18).
+            let d = x.abs().log10().ceil() as i32 - 12;
+            if d >= 0 {
+                (x / 10f64.powi(d)).round() * 10f64.powi(d)
+            } else {
+                (x * 10f64.powi(-d)).round() / 10f64.powi(-d)
+            }
+        };
+        // Very large or small values with an exponent ("1e30", not thirty-one digits).
         if r(c) == r(t) {
-            format!("{}", r(c))
+            fmt_number(r(c))
         } else {
-            format!("{}/{}", r(c), r(t))
+            format!("{}/{}", fmt_number(r(c)), fmt_number(r(t)))
         }
     };
     Ok(format!(
@@ -855,5 +868,23 @@ mod tests {
         assert_eq!(params(2)["C"].as_str(), Some("25 um"));
         s.fmu_parameters = vec![("film.C".into(), "5 furlongs".into())];
         assert!(s.validate().unwrap_err().contains("furlongs"));
+    }
+
+    /// The header line reads like the flags: no thirty-one digits for 1e30 N/mm (a conversion
+    /// residue made it 9.999999999999999e29 too), no residues in ordinary values.
+    #[test]
+    fn bearings_are_described_as_written() {
+        let mut s = RunupSettings::preset("path1").unwrap();
+        let d = describe_bearings(&s).unwrap();
+        assert!(
+            d.starts_with("c = 1000 N/mm, d = 50 N s/m, m_R = 50 g, C = 20 um, dH = 40 um"),
+            "{d}"
+        );
+        s.c_n_per_mm = 1e30;
+        let d = describe_bearings(&s).unwrap();
+        assert!(d.starts_with("c = 1e30 N/mm,"), "{d}");
+        s.c_n_per_mm = 1234.5678;
+        let d = describe_bearings(&s).unwrap();
+        assert!(d.starts_with("c = 1234.5678 N/mm,"), "{d}");
     }
 }
