@@ -312,7 +312,7 @@ fn sweep_orbits_classes_cells_compares_them_and_resumes() {
     let study = dir.join("study.toml");
     std::fs::write(
         &study,
-        "name = \"two\"\n[fixed]\npreset = \"path1\"\nclearance = 15\nc = 1000\nd = 50\n\
+        "name = \"two\"\n[fixed]\npreset = \"path1\"\nclearance = 15\nc = 1000\n\
          [[grid]]\ndh = [0, 30]\nd = [50]\n",
     )
     .unwrap();
@@ -423,7 +423,7 @@ fn sweep_orbits_classes_cells_compares_them_and_resumes() {
         (vec!["--above", "0"], "--above 0"),
         (vec!["--settle=-1"], "--settle -1"),
         (vec![c, "/no/such/runups.csv"], "/no/such/runups.csv"),
-        (vec!["--jobs", "0"], "--jobs 0"),
+        (vec!["--jobs", "0"], "0 run-ups at a time would run none"),
     ] {
         let mut all = vec!["sweep-orbits", s, "--out", o];
         all.extend(args);
