@@ -73,10 +73,10 @@ impl Fmu {
 
 /// The FMUs of a system's instances, each file loaded (unpacked, its library opened) once and
 /// shared by the instances that name it: a run-up's two air films are two instances of one
-/// `airfilm.fmu`, and loading it twice cost a second unpacked copy and ~6 ms of the start. An FMU whose
-/// description says `canBeInstantiatedOnlyOncePerProcess` gets a copy of its own per instance
-/// instead, as before (an unpacked folder is not copied: its library is opened from the same
-/// file, so the process shares it, as any dynamic loader does).
+/// `airfilm.fmu`, and loading it twice cost a second unpacked copy and ~6 ms of the start. An
+/// FMU whose description says `canBeInstantiatedOnlyOncePerProcess` gets a copy of its own per
+/// instance instead, as before (an unpacked folder is not copied: its library is opened from the
+/// same file, so the process shares it, as any dynamic loader does).
 #[derive(Default)]
 pub struct LoadedFmus {
     loaded: Vec<(PathBuf, Arc<Fmu>)>,

@@ -271,7 +271,6 @@ impl System {
     }
 }
 
-/// 1-based line number of a byte offset.
 /// The key whose value starts at `offset`, from the text before it on its line: `order = -1`
 /// and `{ x0 = -1 }` give `order` and `x0`. None where no `=` precedes it on the line.
 fn key_before(text: &str, offset: usize) -> Option<String> {
@@ -285,6 +284,7 @@ fn key_before(text: &str, offset: usize) -> Option<String> {
     (!key.is_empty()).then(|| key.to_string())
 }
 
+/// 1-based line number of a byte offset.
 pub fn line_of(text: &str, offset: usize) -> usize {
     text[..offset.min(text.len())]
         .bytes()
