@@ -58,7 +58,18 @@ pub fn modal(
         println!("speed {f} Hz:");
         let mut rows = vec![];
         for (k, m) in ms.iter().enumerate() {
-            let w = if m.whirl == Whirl::Forward {
+            // A pair of modes at one frequency (at standstill, without gyroscopic splitting, the
+            // x and y motions of isotropic bearings) has no whirl direction: any mix of the two
+            // is a mode, and the eigenvectors the solver returns labelled both "forward".
+            let paired = |j: usize| {
+                ms.get(j).is_some_and(|o: &_| {
+                    (o.freq_hz - m.freq_hz).abs() <= 1e-9 * m.freq_hz.abs().max(1.0)
+                })
+            };
+            let degenerate = paired(k + 1) || (k > 0 && paired(k - 1));
+            let w = if degenerate {
+                "none (a pair at one frequency)"
+            } else if m.whirl == Whirl::Forward {
                 "forward"
             } else {
                 "backward"
@@ -175,6 +186,41 @@ fn campbell(v: &serde_json::Value) -> Chart {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// At standstill the modes come in pairs at one frequency (no gyroscopic splitting): no whirl
+    /// direction (the solver's eigenvectors were labelled "forward" and "forward"); running, each
+    /// pair splits into a backward and a forward mode.
+    #[test]
+    fn a_pair_at_one_frequency_has_no_whirl_direction() {
+        let v = modal(&[0.0, 500.0], 500.0, 0.0, 2000.0, 50.0, None).unwrap();
+        let whirls = |k: usize| -> Vec<String> {
+            v["campbell"][k]["modes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|m| m["whirl"].as_str().unwrap().to_string())
+                .collect()
+        };
+        let standstill = whirls(0);
+        assert_eq!(standstill.len(), 8);
+        assert!(
+            standstill
+                .iter()
+                .all(|w| w == "none (a pair at one frequency)"),
+            "{standstill:?}"
+        );
+        let running = whirls(1);
+        assert_eq!(
+            running.iter().filter(|w| *w == "forward").count(),
+            4,
+            "{running:?}"
+        );
+        assert_eq!(
+            running.iter().filter(|w| *w == "backward").count(),
+            4,
+            "{running:?}"
+        );
+    }
 
     /// The Campbell figure of three speeds and four modes: a segment per mode and speed interval,
     /// coloured by whirl direction, and clean text.
