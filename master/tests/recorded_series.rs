@@ -83,6 +83,20 @@ fn the_borderline_preset_changes_class_when_its_bound_moves_and_the_others_do_no
     }
 }
 
+/// What `airring classify DIR` prints (it must succeed).
+fn classify_folder(dir: &Path) -> serde_json::Value {
+    let out = Command::new(env!("CARGO_BIN_EXE_airring"))
+        .args(["classify", dir.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
 /// `airring classify DIR` on a run folder of an earlier version (no films' eps columns): the same
 /// class as on the recorded series, from |dr| / C.
 #[test]
@@ -108,16 +122,7 @@ fn classify_reads_a_folder_of_an_earlier_version() {
         old.push('\n');
     }
     std::fs::write(dir.join("timeseries.csv"), old).unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_airring"))
-        .args(["classify", dir.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let v = classify_folder(&dir);
     assert_eq!(v["classification"], "path2b", "{v}");
     let _ = std::fs::remove_dir_all(&dir);
 }
@@ -148,16 +153,7 @@ fn classify_says_when_the_run_did_not_complete() {
             ..Default::default()
         };
         s.write(&dir).unwrap();
-        let out = Command::new(env!("CARGO_BIN_EXE_airring"))
-            .args(["classify", dir.to_str().unwrap()])
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
-        );
-        serde_json::from_slice(&out.stdout).unwrap()
+        classify_folder(&dir)
     };
     let v = classify(master::summary::RunStatus::Running);
     let note = v["classification_note"].as_str().unwrap_or_default();

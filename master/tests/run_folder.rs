@@ -598,18 +598,22 @@ fn resume_without_a_checkpoint_says_why_before_it_starts() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// The recorded path-1 system file at a 50 us macro step, on which its 50 us rows fall (its own
+/// 20 us do not divide them).
+fn recorded_path1_at_50_us() -> String {
+    std::fs::read_to_string(root().join("master/tests/data/recorded/path1/system.toml"))
+        .unwrap()
+        .replace("macro_step = \"20 us\"", "macro_step = \"50 us\"")
+}
+
 /// `airring run --clearance / --dh` on a system whose films name their own bores is refused
 /// before it starts: the summary's clearance and onset used to follow the flag while the films
 /// ran with theirs (and `classify` of the same folder refused the flag).
 #[test]
 fn a_run_refuses_a_clearance_where_its_films_name_theirs() {
     let dir = tmp("run-clearance-films");
-    // A path-1 system file whose rows fall on macro steps (the recorded one's 20 us do not).
-    let text = std::fs::read_to_string(root().join("master/tests/data/recorded/path1/system.toml"))
-        .unwrap()
-        .replace("macro_step = \"20 us\"", "macro_step = \"50 us\"");
     let sys = dir.join("path1.toml");
-    std::fs::write(&sys, text).unwrap();
+    std::fs::write(&sys, recorded_path1_at_50_us()).unwrap();
     for flags in [
         &["--clearance", "60"][..],
         &["--clearance", "20", "--dh", "40"],
@@ -639,10 +643,7 @@ fn a_run_refuses_a_clearance_where_its_films_name_theirs() {
 #[test]
 fn a_run_refuses_an_output_interval_between_macro_steps() {
     let dir = tmp("run-interval");
-    let text = std::fs::read_to_string(root().join("master/tests/data/recorded/path1/system.toml"))
-        .unwrap()
-        .replace("macro_step = \"20 us\"", "macro_step = \"50 us\"")
-        .replace("interval = \"50 us\"", "interval = \"70 us\"");
+    let text = recorded_path1_at_50_us().replace("interval = \"50 us\"", "interval = \"70 us\"");
     let sys = dir.join("s.toml");
     std::fs::write(&sys, text).unwrap();
     let out = dir.join("out");
