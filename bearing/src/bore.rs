@@ -186,8 +186,8 @@ impl Bore {
                 return bad(name, v, what);
             }
         }
-        // An orientation: one turn either way. cos and sin of 1e300 (taken until 2026-12-06)
-        // keep none of the angle's digits.
+        // An orientation: one turn either way. cos and sin of 1e300 keep none of the angle's
+        // digits.
         if self.alpha_rad.abs() > 2.0 * PI {
             return bad(
                 "alpha",

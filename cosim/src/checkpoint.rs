@@ -226,7 +226,9 @@ pub fn write(
     master: &MasterState,
 ) -> std::io::Result<()> {
     let cp = dir.join("checkpoint");
-    std::fs::create_dir_all(&cp)?;
+    // A linked checkpoint folder is refused: the old generations removed below would be another
+    // run's files.
+    crate::files::real_folder(&cp)?;
     let (tag, checks) = write_states(&cp, names, states, master.step_index)?;
     let master = MasterState {
         states_tag: Some(tag.clone()),
@@ -259,7 +261,12 @@ pub fn write(
 /// Removes a run folder's checkpoint (a fresh run into a reused folder must not leave one that a
 /// later `resume` would continue from).
 pub fn remove(dir: &Path) -> std::io::Result<()> {
-    match std::fs::remove_dir_all(dir.join("checkpoint")) {
+    let cp = dir.join("checkpoint");
+    if crate::files::is_symlink(&cp) {
+        // The link goes, what it points to stays.
+        return std::fs::remove_file(&cp);
+    }
+    match std::fs::remove_dir_all(&cp) {
         Err(e) if e.kind() != std::io::ErrorKind::NotFound => Err(e),
         _ => Ok(()),
     }
@@ -267,6 +274,14 @@ pub fn remove(dir: &Path) -> std::io::Result<()> {
 
 pub fn read(dir: &Path, names: &[String]) -> Result<(MasterState, Vec<Vec<u8>>), String> {
     let cp = dir.join("checkpoint");
+    if crate::files::is_symlink(&cp) {
+        // A resume writes new generations into it and removes the old ones: not through a link.
+        return Err(format!(
+            "{} is a symbolic link: a run is resumed only from a checkpoint folder of its own \
+             (AirRing does not write or delete through links in a run folder)",
+            cp.display()
+        ));
+    }
     let text = std::fs::read_to_string(cp.join("master.json"))
         .map_err(|e| format!("{}: no checkpoint ({e})", cp.display()))?;
     let m: MasterState =
@@ -285,11 +300,15 @@ pub fn read(dir: &Path, names: &[String]) -> Result<(MasterState, Vec<Vec<u8>>),
                 .map_err(|e| format!("{}/{file}: {e}", cp.display()))?;
             if let Some((_, len, sum)) = m.state_checks.iter().find(|c| &c.0 == n) {
                 if bytes.len() as u64 != *len || checksum(&bytes) != *sum {
+                    let what = if bytes.len() as u64 != *len {
+                        format!("{} bytes, expected {len}", bytes.len())
+                    } else {
+                        format!("{len} bytes as expected, but their checksum differs")
+                    };
                     return Err(format!(
-                        "{}/{file}: does not match master.json ({} bytes, expected {len}): \
-                         the checkpoint is damaged",
+                        "{}/{file}: does not match master.json ({what}): the checkpoint is \
+                         damaged",
                         cp.display(),
-                        bytes.len()
                     ));
                 }
             } else if !m.state_checks.is_empty() {
@@ -384,7 +403,7 @@ mod tests {
 
     #[test]
     fn checkpoints_of_earlier_versions_still_read() {
-        // Session 6 layout: <instance>.state, no tag, no checks.
+        // The oldest layout: <instance>.state, no tag, no checks.
         let dir = tmp("old");
         let cp = dir.join("checkpoint");
         std::fs::create_dir_all(&cp).unwrap();

@@ -108,7 +108,7 @@ pub fn run(
         let cp = cfg.out_dir.join("checkpoint");
         checkpoint::remove(&cfg.out_dir).map_err(io(&cp))?;
         if !in_place {
-            std::fs::write(&used, &text).map_err(io(&used))?;
+            crate::files::write_whole(&used, &text).map_err(io(&used))?;
         }
     }
     Ok(exec.run(resumed_from, observers))
@@ -265,6 +265,9 @@ impl<'a> Execution<'a> {
         };
         for o in observers.iter_mut() {
             o.started(&run_start)?;
+        }
+        for o in observers.iter_mut() {
+            o.begun(&run_start)?;
         }
         Ok(())
     }

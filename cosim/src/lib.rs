@@ -22,6 +22,7 @@ pub mod checkpoint;
 pub mod error;
 pub mod execution;
 pub mod files;
+pub mod number;
 pub mod observer;
 pub mod parallel;
 pub mod parallel_choice;

@@ -24,8 +24,15 @@ pub struct RunStart<'a> {
 
 /// A watcher of a run. Errors are strings naming what failed; they end the run as failed.
 pub trait Observer {
-    /// Before the first macro step (also of a resumed run).
+    /// Before the first macro step (also of a resumed run). Any observer may still refuse the
+    /// run here: change nothing a refused run must leave as it was (do that in [`Self::begun`]).
     fn started(&mut self, _run: &RunStart<'_>) -> Result<(), String> {
+        Ok(())
+    }
+
+    /// Every observer has accepted the start: the run goes ahead. Called in order after all
+    /// [`Self::started`] calls succeeded; the place to replace a folder's old outputs.
+    fn begun(&mut self, _run: &RunStart<'_>) -> Result<(), String> {
         Ok(())
     }
 

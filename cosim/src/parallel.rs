@@ -139,9 +139,9 @@ pub struct StepPool {
 
 /// Spins for [`SPIN`] (then parks, for a worker, or yields, for the master) until `state` is one
 /// of `wanted`, doing pieces of `idle` work while it spins. Once past the spin, every wake-up
-/// parks or yields again at once: until 2026-12-05 a parked worker spun ~1 000 times after each
-/// of its 5 ms time-outs, CPU taken from whatever else runs on a busy machine while the films are
-/// stepped one after the other.
+/// parks or yields again at once: a parked worker that spun again after each of its 5 ms
+/// time-outs (~1 000 spins) would take CPU from whatever else runs on a busy machine while the
+/// films are stepped one after the other.
 fn wait_for(state: &AtomicU8, wanted: &[u8], park: bool, idle: &IdleWorkers) -> u8 {
     let start = Instant::now();
     let mut spins = 0u32;

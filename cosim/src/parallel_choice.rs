@@ -28,10 +28,10 @@ const HOLD_MIN: u64 = 2_000;
 const HOLD_MAX: u64 = 16_000;
 /// While parallel is held: once its steps have cost this many serial steps' worth of time beyond
 /// [`STALL_SLACK`] serial steps each (summed over the hold, a sum that never goes below zero), the
-/// hold ends at once (another process arrived: a stalled worker costs 10-20x per step). Until
-/// 2026-12-05 the rule was 8 slower steps in a row, which a busy machine's scheduling defeats:
-/// stalled steps alternate with fast ones (path 1 under one busy loop stepped 455 groups in
-/// parallel; its last parallel probe took 2.7 ms per step, serial 0.13 ms).
+/// hold ends at once (another process arrived: a stalled worker costs 10-20x per step). Ending
+/// it after 8 slower steps in a row fails on a busy machine, whose scheduling alternates stalled
+/// steps with fast ones (path 1 under one busy loop stepped 455 groups in parallel that way; its
+/// last parallel probe took 2.7 ms per step, serial 0.13 ms).
 const EXCESS_TO_REPROBE: f64 = 16.0;
 /// What a held parallel step may take before it counts towards that excess, in serial steps: on a
 /// quiet machine a step where a film refreshes its Newton matrices takes longer than the probe's
@@ -43,15 +43,15 @@ const PARALLEL_MARGIN: f64 = 0.95;
 /// twice what serial steps would have: on a busy machine a parallel step can take 10x a serial
 /// one, and a whole window of them would cost more than the choice saves. The first step is left
 /// out: it wakes a worker that parked while the group stepped serially (a futex wake-up, 50-150
-/// us). Until 2026-12-06 it counted, and once film steps were cheap (29 us serially on a 10 x 3
-/// graded mesh) no parallel probe survived its first two steps: a run that started serially
-/// stayed serial. (4 steps with the first until 2026-12-05.)
+/// us). Were it counted, with film steps this cheap (29 us serially on a 10 x 3 graded mesh) no
+/// parallel probe would survive its first two steps: a run that started serially would stay
+/// serial.
 const PROBE_ABORT_AFTER: u32 = 2;
 /// A parallel probe also ends at its first step when that took more than this many serial
 /// steps: a parked worker's wake-up costs 50-150 us on a quiet machine (2-6 serial steps of a
 /// film step of ~26 us), but beside a busy process the worker waits milliseconds for a core
 /// (path 1 beside one busy loop: ~3 ms per parallel step, over 100 serial steps), and so does
-/// each further step of the probe: it took three until 2026-12-06, ~1.3 % of such a run.
+/// each further step of the probe: waiting out three such steps cost ~1.3 % of such a run.
 const FIRST_STEP_STALL: f64 = 20.0;
 
 #[derive(Clone, Copy, Debug)]

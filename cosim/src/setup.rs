@@ -1,6 +1,7 @@
 //! From a system file to instantiated, initialized FMUs wired together.
 
 use crate::algorithm::{AlgorithmConfig, CoSim, Scheme};
+use crate::number::short;
 use crate::slave::{Fmu, LoadedFmus, Slave};
 use crate::step_control::StepControl;
 use crate::step_plan::LongSteps;
@@ -174,8 +175,10 @@ pub fn check_output_interval_whole(sys: &System) -> Result<(), SystemError> {
             v,
             "output.interval",
             format!(
-                "{interval_s} s is not a whole number of macro steps ({macro_step_s} s): rows are \
-                 written at macro steps only"
+                "{} s is not a whole number of macro steps ({} s): rows are written at macro \
+                 steps only",
+                short(interval_s),
+                short(macro_step_s)
             ),
         ));
     }
@@ -201,7 +204,11 @@ fn time_grid(sys: &System) -> Result<(f64, f64, f64), SystemError> {
         return Err(sys.error_at(
             &alg.macro_step,
             "algorithm.macro_step",
-            format!("{macro_step_s} s is longer than the stop time {stop_time_s} s"),
+            format!(
+                "{} s is longer than the stop time {} s",
+                short(macro_step_s),
+                short(stop_time_s)
+            ),
         ));
     }
     if stop_time_s / macro_step_s > MAX_MACRO_STEPS {
@@ -209,16 +216,20 @@ fn time_grid(sys: &System) -> Result<(f64, f64, f64), SystemError> {
             &alg.macro_step,
             "algorithm.macro_step",
             format!(
-                "{macro_step_s} s gives {:.3e} macro steps to {stop_time_s} s (at most {MAX_MACRO_STEPS:e})",
-                stop_time_s / macro_step_s
+                "{} s gives {:.3e} macro steps to {} s (at most {MAX_MACRO_STEPS:e})",
+                short(macro_step_s),
+                stop_time_s / macro_step_s,
+                short(stop_time_s)
             ),
         ));
     }
     if stop_time_s / output_interval_s > MAX_OUTPUT_ROWS {
         let field = "output.interval";
         let msg = format!(
-            "{output_interval_s} s gives {:.3e} output rows to {stop_time_s} s (at most {MAX_OUTPUT_ROWS:e})",
-            stop_time_s / output_interval_s
+            "{} s gives {:.3e} output rows to {} s (at most {MAX_OUTPUT_ROWS:e})",
+            short(output_interval_s),
+            stop_time_s / output_interval_s,
+            short(stop_time_s)
         );
         return Err(match &f.output.interval {
             Some(v) => sys.error_at(v, field, msg),

@@ -337,10 +337,12 @@ fn ssd_xml(
     s
 }
 
+/// Builds the archive in memory (an FMU is a few MB), then writes it whole under a temporary name
+/// and renames it into place: a full disk leaves no truncated archive under the final name, and
+/// a link at `out` is replaced, not written through.
 fn write_archive(out: &Path, ssd: &str, files: &[(PathBuf, String)]) -> Result<(), String> {
     let err = |e: &dyn std::fmt::Display| format!("{}: {e}", out.display());
-    let file = std::fs::File::create(out).map_err(|e| err(&e))?;
-    let mut zip = zip::ZipWriter::new(file);
+    let mut zip = zip::ZipWriter::new(std::io::Cursor::new(Vec::new()));
     let deflated = zip::write::SimpleFileOptions::default()
         .compression_method(zip::CompressionMethod::Deflated);
     // FMUs are zip archives already.
@@ -354,6 +356,6 @@ fn write_archive(out: &Path, ssd: &str, files: &[(PathBuf, String)]) -> Result<(
         zip.start_file(name.as_str(), stored).map_err(|e| err(&e))?;
         zip.write_all(&bytes).map_err(|e| err(&e))?;
     }
-    zip.finish().map_err(|e| err(&e))?;
-    Ok(())
+    let bytes = zip.finish().map_err(|e| err(&e))?.into_inner();
+    crate::files::write_whole(out, &bytes).map_err(|e| err(&e))
 }

@@ -265,7 +265,14 @@ impl System {
             }
         };
         if !(x.is_finite() && x > 0.0) {
-            return Err(self.error_at(v, field, format!("must be a positive time, found {x} s")));
+            return Err(self.error_at(
+                v,
+                field,
+                format!(
+                    "must be a positive time, found {} s",
+                    crate::number::short(x)
+                ),
+            ));
         }
         Ok(x)
     }

@@ -5,7 +5,7 @@
 
 use crate::parallel::{IdleWork, IdleWorkers};
 use std::collections::VecDeque;
-use std::fs::{File, OpenOptions};
+use std::fs::File;
 use std::io::{BufWriter, Seek, Write};
 use std::path::Path;
 use std::sync::atomic::{AtomicUsize, Ordering};
@@ -28,11 +28,12 @@ pub struct TimeSeriesWriter {
 const FLUSH_EVERY: Duration = Duration::from_secs(1);
 
 impl TimeSeriesWriter {
-    /// New file with the header `time [s]`, then `name [unit]` per column.
+    /// New file with the header `time [s]`, then `name [unit]` per column. An old file or a
+    /// symbolic link at `path` is replaced, never written through (files.rs).
     pub fn create(path: &Path, columns: &[(String, String)]) -> std::io::Result<Self> {
         let mut w = TimeSeriesWriter {
             path: path.to_path_buf(),
-            out: BufWriter::new(File::create(path)?),
+            out: BufWriter::new(crate::files::create_replacing(path)?),
             last_flush: Instant::now(),
             bytes: 0,
             check_state: crate::checkpoint::FNV_START,
@@ -53,9 +54,9 @@ impl TimeSeriesWriter {
     }
 
     /// Reopens a file for appending after `bytes` whose checksum is `check` (everything later,
-    /// from after the checkpoint, is cut).
+    /// from after the checkpoint, is cut). A symbolic link at `path` is refused.
     pub fn resume(path: &Path, bytes: u64, check: u64) -> std::io::Result<Self> {
-        let f = OpenOptions::new().write(true).open(path)?;
+        let f = crate::files::open_existing_for_writing(path)?;
         f.set_len(bytes)?;
         let mut f = f;
         f.seek(std::io::SeekFrom::End(0))?;
@@ -78,10 +79,9 @@ impl TimeSeriesWriter {
 
     /// FNV-1a 64 of the `bytes` written so far (a checkpoint records it: a resume checks the
     /// prefix it keeps). Flushes, then continues the checksum over the bytes written since the
-    /// last call, read back from the file (the page cache). Until 2026-12-06 every row's text
-    /// went through the checksum as it was written: FNV-1a takes one multiply per byte in a
-    /// chain, ~48 ms of a path-1 run-up's 44 MB on the master's thread, though only checkpoints
-    /// (and an interrupted run's last one) read it. The same bytes give the same checksum.
+    /// last call, read back from the file (the page cache): FNV-1a takes one multiply per byte
+    /// in a chain, ~48 ms of a path-1 run-up's 44 MB if every row went through it on the
+    /// master's thread, though only checkpoints (and an interrupted run's last one) read it.
     pub fn check(&mut self) -> std::io::Result<u64> {
         self.flush()?;
         if self.checked_bytes < self.bytes {
@@ -151,8 +151,8 @@ impl TimeSeriesWriter {
 /// it first: a thread waiting on the run's parallel pool, one row at a time between its steps
 /// ([`IdleWork`]), or this observer itself once [`MAX_QUEUED_ROWS`] rows wait, and at every
 /// checkpoint and the end. One lock keeps the rows in order. In a path-1 run-up the rows' text
-/// and writes were ~60-80 ms of the master's own thread (2026-12-06), which the pool's worker
-/// now does while it waits for the next film step. Without a pool every row is written at once.
+/// and writes would be ~60-80 ms of the master's own thread, which the pool's worker instead
+/// does while it waits for the next film step. Without a pool every row is written at once.
 pub struct CsvObserver {
     path: std::path::PathBuf,
     queue: Option<Arc<RowQueue>>,

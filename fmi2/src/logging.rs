@@ -31,7 +31,7 @@ impl Logger {
             // fmi2Instantiate(loggingOn = true) enables every category, as if fmi2SetDebugLogging
             // had been called with nCategories = 0; with loggingOn = false every category starts
             // off, so that a later fmi2SetDebugLogging(true, categories) turns on only those listed
-            // (until 2026-12-04 all started on, and listing one category turned on all of them).
+            // (were all to start on, listing one category would leave all of them on).
             categories: categories.iter().map(|(n, _)| (*n, logging_on)).collect(),
         }
     }

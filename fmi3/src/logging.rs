@@ -11,9 +11,9 @@
 //! goes out when its category, or `logAll`, is on. The fmi2 logger is created with logging on and
 //! its categories follow the sink's (`Sink::mirror_into`, after instantiation and after every
 //! fmi3SetDebugLogging): a model that asks whether a debug category is on before it formats a
-//! message (the film's and the rotor's per-step solver statistics) gets the sink's answer. Until
-//! 2026-12-05 every category stayed on, so an FMI 3.0 FMU formatted them at every step for the
-//! sink to drop. Warnings and errors always reach the sink, and this one policy decides.
+//! message (the film's and the rotor's per-step solver statistics) gets the sink's answer; with
+//! every category left on, an FMI 3.0 FMU would format them at every step for the sink to drop.
+//! Warnings and errors always reach the sink, and this one policy decides.
 
 use crate::types::*;
 use fmi2::types::Fmi2CallbackFunctions;

@@ -39,7 +39,7 @@ fn main() {
             .parse()
             .expect("AIRFILM_MESH: elements across the half width");
     }
-    // A graded mesh, e.g. AIRFILM_MESH=10x3 AIRFILM_GRADING=0.8 (the run-ups' since session 32).
+    // A graded mesh, e.g. AIRFILM_MESH=10x3 AIRFILM_GRADING=0.8 (as the run-ups use).
     if let Ok(g) = std::env::var("AIRFILM_GRADING") {
         prm.mesh_grading = g.parse().expect("AIRFILM_GRADING: e.g. 0.8");
     }
@@ -75,10 +75,10 @@ fn main() {
         t_res * 1e6,
         t_jac * 1e6,
     );
-    // Factor and solve with partial pivoting and without (the film's default since 2026-12-04):
+    // Factor and solve with partial pivoting and without (the film's default):
     // the factorization of a copy of the assembled matrix, the copy timed apart and subtracted.
-    // Without interchanges also with the factors rounded to f32 for the solves (the film's
-    // Newton matrices since 2026-12-05; the factorization includes the rounding).
+    // Without interchanges also with the factors rounded to f32 for the solves (as the film's
+    // Newton matrices are; the factorization includes the rounding).
     for (pivoting, single) in [(true, false), (false, false), (false, true)] {
         lu.set_pivoting(pivoting);
         lu.set_single_precision_solves(single);

@@ -68,8 +68,8 @@ pub fn pressure_force_n(prm: &BearingParams, mesh: &Mesh, geom: &Geometry, p: &[
     [s * fx, s * fy]
 }
 
-/// [`pressure_force_n`] through the column functionals point by point, as it was until
-/// 2026-12-05 (tests compare the two).
+/// [`pressure_force_n`] through the column functionals point by point, the earlier evaluation
+/// (tests compare the two).
 #[cfg(test)]
 pub(crate) fn pressure_force_by_columns_n(
     prm: &BearingParams,

@@ -63,10 +63,10 @@ const F64_FACTORS_IN_CACHE_BYTES: usize = 1 << 20;
 /// Whether the Newton solves should read factors rounded to f32: only where the film's f64
 /// factors do not fit in a core's cache. On the paper mesh (1.46 MB per film) that paid when it
 /// came (path 1 to 1.6 s with serial films 0.895; the Newton and Jacobian counts the same, the
-/// onset 1e-10 s apart). On the run-ups' meshes since session 28 (20 x 3: 0.46 MB, 20 x 4:
-/// 0.73 MB) it cost: one lobe's solves with six lobes' matrices in turn 3.07 against 2.84 us at
+/// onset 1e-10 s apart). On the run-ups' meshes (20 x 3: 0.46 MB, 20 x 4: 0.73 MB) it costs:
+/// one lobe's solves with six lobes' matrices in turn 3.07 against 2.84 us at
 /// 20 x 3 and 6.2-10.5 against 4.0-6.5 us at 20 x 4, the factorization with its rounding pass
-/// 39-40 against 27-29 us at 20 x 4 (kernel bench, 2026-12-06).
+/// 39-40 against 27-29 us at 20 x 4 (kernel bench).
 fn single_precision_solves_pay(mesh: &Mesh) -> bool {
     let ldab = mesh.kl + mesh.ku + 1;
     let bytes = mesh.n_blocks * SLOTS_PER_LOBE * mesh.npb * ldab * std::mem::size_of::<f64>();
@@ -205,8 +205,8 @@ pub struct AirFilm {
 /// only when the parameters differ (they are functions of the parameters), and shares the
 /// factorized Jacobians (reference counts; a film refactorizes into a matrix no copy holds,
 /// `matrix_to_refactor`). That leaves the three pressure levels, ~40 kB on the paper mesh.
-/// Until 2026-12-05 a copy took each matrix that changed since the destination got it, 360 kB
-/// each: 12.7 s of a 300 s run-up whose journals ride on their rings (C15/dH0/d50), where
+/// Copying each matrix that changed since the destination got it, 360 kB each, cost 12.7 s of a
+/// 300 s run-up whose journals ride on their rings (C15/dH0/d50), where
 /// a lobe refactorizes every third sub-step.
 impl Clone for AirFilm {
     fn clone(&self) -> Self {
@@ -645,7 +645,7 @@ impl AirFilm {
                 let c1 = w * w / ((1.0 + w) * hs);
                 // The quadratic through the last three levels at t + hs, y0 + hs f[01] + hs (hs
                 // + h1) f[012], with its divided differences' divisions gathered into two
-                // coefficients: no division per node (until 2026-12-05 three, a third of the
+                // coefficients: no division per node (three per node were a third of the
                 // samples outside the kernels in a step), and the loop vectorizes.
                 let d01 = hs / h1 + hs * (hs + h1) / (h1 * (h1 + h2));
                 let d12 = hs * (hs + h1) / (h2 * (h1 + h2));
@@ -658,9 +658,9 @@ impl AirFilm {
                 }
                 // Local truncation error of variable-step BDF2 (the interpolation error of the
                 // derivative, h (h + h1) p'''/6, divided by c0) and of the quadratic predictor,
-                // both per p'''. Until 2026-12-04 cc lacked its factor hs (a length of time too
-                // few), which made fac ~1 instead of 2/11 at equal steps: the estimate was 5.5x
-                // too large and the film's steps 1.8x too small.
+                // both per p'''. Without its factor hs (a length of time too few) cc would make
+                // fac ~1 instead of 2/11 at equal steps: the estimate 5.5x too large and the
+                // film's steps 1.8x too small.
                 let cc = hs * hs * (hs + h1) * (hs + h1) / (6.0 * (2.0 * hs + h1));
                 let cp = hs * (hs + h1) * (hs + h1 + h2) / 6.0;
                 fac = cc / (cc + cp);

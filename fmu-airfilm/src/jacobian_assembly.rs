@@ -147,7 +147,7 @@ pub(crate) fn jacobian_element_lanes(
     }
 }
 
-/// The Jacobian assembled one element at a time, as it was until 2026-12-05: the element-lane
+/// The Jacobian assembled one element at a time (the earlier assembly): the element-lane
 /// assembly must equal it bit for bit (tests only).
 #[cfg(test)]
 pub(crate) fn jacobian_one_element_at_a_time(

@@ -52,12 +52,12 @@ pub struct BandLu {
     /// 1 / U's diagonal, set by `factor`: the back substitution multiplies by it instead of
     /// dividing by the diagonal, which took the division's latency (~13 cycles against ~4 for a
     /// multiplication) into the solve's dependency chain once per row. A state serialized
-    /// before 2026-12-05 lacks it: the decoder or `fits` refuses it (tested).
+    /// by an older airring lacks it: the decoder or `fits` refuses it (tested).
     inv_diag: Vec<f64>,
     /// Partial pivoting (LAPACK's layout) or none (the compact layout).
     pivoting: bool,
-    /// Solve with the factors rounded to f32 ([`BandLu::set_single_precision_solves`]). Added
-    /// 2026-12-05: a state serialized before lacks it and does not read.
+    /// Solve with the factors rounded to f32 ([`BandLu::set_single_precision_solves`]). A state
+    /// serialized by an older airring lacks it and does not read.
     single_precision_solves: bool,
     /// Those rounded factors, set by a factorization without row interchanges (and rebuilt when
     /// a state is read); empty otherwise, or where an entry does not fit in f32.
@@ -253,9 +253,9 @@ fn subtract_four_columns_fixed<const N: usize, T: Entry>(
 /// alternated 3 times). Other bandwidths take the loops.
 const FILM_KL: usize = 28;
 
-/// The same for the run-ups' meshes since 2026-12-05 (`film_mesh_for` in the master): 20 x 3 (7
-/// nodes across, kl 16) and 20 x 4 (9 nodes across, kl 20). Until 2026-12-06 only the paper
-/// mesh's 28 had them and the run-ups' lobes took the loops.
+/// The same for the run-ups' meshes (`film_mesh_for` in the master): 20 x 3 (7 nodes across,
+/// kl 16) and 20 x 4 (9 nodes across, kl 20). With only the paper mesh's 28 the run-ups' lobes
+/// would take the loops.
 const FILM_KL_20X3: usize = 16;
 const FILM_KL_20X4: usize = 20;
 

@@ -5,10 +5,10 @@
 //! N_a(q) = N1(q_phi, a_phi) N1(q_z, a_z), with local node a = 3 a_phi + a_z and Gauss point
 //! q = 3 q_phi + q_z (`mesh::Basis`). Interpolating P, dP/dxi, dP/deta and dP/dt to the Gauss
 //! points contracts along z first and then along phi (189 multiply-adds per element instead of
-//! 324), and the test-function sums go back the same way (135 instead of 243). Until 2026-12-05
-//! the residual ran the full 9 x 9 tables with the Gauss points as lanes (padded to 12); the sums
-//! now run in another order, so the residual differs from the scalar formulation by rounding
-//! (tested against it to 1e-13 of the element terms' scale).
+//! 324), and the test-function sums go back the same way (135 instead of 243), rather than the
+//! full 9 x 9 tables with the Gauss points as lanes (padded to 12). The sums run in another
+//! order, so the residual differs from the scalar formulation by rounding (tested against it to
+//! 1e-13 of the element terms' scale).
 
 use crate::geometry::GapField;
 use crate::jacobian_assembly::{element_groups, ELEM_LANES};

@@ -71,8 +71,8 @@ impl Disturbance {
 /// A [`Disturbance`] that keeps the grid values of the interval it was last asked about: a rotor
 /// step takes its inputs at a few times between two grid points (100 us apart at the default;
 /// 3-4 evaluations per 50 us macro step), and each channel's value costs a logarithm, a cosine
-/// and six hashes. Until 2026-12-06 all eight were drawn at every evaluation: ~14 % of the
-/// rotor's samples in a path-1 run-up, beside the logarithms and cosines in libm. The same
+/// and six hashes. Drawing all eight at every evaluation was ~14 % of the rotor's samples in a
+/// path-1 run-up, beside the logarithms and cosines in libm. The same
 /// values, so the same forces, bit for bit.
 #[derive(Clone, Copy, Debug)]
 pub struct DisturbanceGrid {

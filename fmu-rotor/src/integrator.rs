@@ -13,8 +13,8 @@
 //!   K = (1 + w) / (2 + 3 w), w = h_n / h_{n-1} (BDF2; 2/5 at equal steps): the local truncation
 //!   error of variable-step BDF2, h_n^2 (h_n + h_{n-1})^2 / (6 (2 h_n + h_{n-1})) y''', over the
 //!   sum of it and the Hermite predictor's, h_n^2 (h_n + h_{n-1}) / 6 y''' (the textbook local
-//!   error, from exact past values, as the air film's estimate). Until 2026-12-04 K was
-//!   beta = (1 + w) / (1 + 2 w), 2/3 at equal steps: 1.67x the local error.
+//!   error, from exact past values, as the air film's estimate). K = beta = (1 + w) / (1 + 2 w),
+//!   2/3 at equal steps, would be 1.67x the local error.
 //! * Only x and v enter the error and Newton norms; the multipliers are algebraic (index 2) and
 //!   coordinates fixed by a constraint are excluded too (they are exact by construction).
 //! * The iteration matrix is refactored only if beta h changes by more than 25 % (from the
@@ -121,7 +121,7 @@ struct JacCache {
 
 /// `advance_to`'s working vectors, kept between its calls: a run-up calls it ~54 000 times, and
 /// making them anew each time (ten vectors, and one more per step for the error weights and the
-/// accepted state) was ~8 % of the rotor's CPU samples in a path-1 run-up (2026-12-06). Not
+/// accepted state) was ~8 % of the rotor's CPU samples in a path-1 run-up. Not
 /// part of the state: a clone (a master's roll-back copy before every macro step) or a restored
 /// state starts without them, and `advance_to` resets them to what new vectors held (zeros, an
 /// empty contact memo), so the results are the same bits.
@@ -969,7 +969,7 @@ mod tests {
 
     /// Communication intervals of 10 us and 5 us in turn, every step as long as its interval:
     /// beta h alternates between two values 60 % apart. The previous factorization serves the
-    /// way back, so two factorizations serve the whole run (one per call before 2026-12-05),
+    /// way back, so two factorizations serve the whole run (instead of one per call),
     /// and the ring still follows its exact flow.
     #[test]
     fn alternating_step_sizes_reuse_the_previous_factorization() {

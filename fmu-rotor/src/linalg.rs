@@ -4,11 +4,11 @@
 //! The LU serves the 56 x 56 GGL iteration matrix (factored now and then, solved at every Newton
 //! iteration) and the 8 x 8 lateral mass matrix. The factorization is written out here: the GGL
 //! matrix has about 134 nonzeros of 3136 and the elimination skips zero multipliers, which makes
-//! it 2.7 times faster than faer's dense `lu_in_place` on that matrix (BENCHMARKS.md, "faer
-//! (session 7)"). Since 2026-12-05 the elimination follows the nonzero pattern, held as bit masks
-//! for n <= 64 (`factor_by_masks`): another 2x on the GGL matrix (benches/linalg.rs). The
-//! triangular solves run over the factors' nonzeros only, row by row (until 2026-12-05 faer's
-//! dense solves, 1.6 times faster than plain dense loops): the GGL factors keep
+//! it 2.7 times faster than faer's dense `lu_in_place` on that matrix (BENCHMARKS.md, "faer").
+//! The elimination follows the nonzero pattern, held as bit masks for n <= 64
+//! (`factor_by_masks`): another 2x on the GGL matrix (benches/linalg.rs). The triangular solves
+//! run over the factors' nonzeros only, row by row (rather than faer's dense solves, 1.6 times
+//! faster than plain dense loops): the GGL factors keep
 //! most of the matrix's zeros, and a run-up solves with them at every Newton iteration. The
 //! factors are plain data, serialized as the dense factors and the pivots (the nonzero lists are
 //! rebuilt on reading), so a restored `Rotor` reuses them bit-identically. Kernel tests:

@@ -220,7 +220,7 @@ fn speed_table_vars() -> Vec<Variable> {
     .range(Some(0.0), Some(MAX_SPEED_POINTS as f64))];
     for k in 0..MAX_SPEED_POINTS as u32 {
         v.push(Variable::real_parameter(
-            leak(format!("speed_table_t_{:02}", k + 1)),
+            SPEED_TABLE_T_NAMES[k as usize],
             vr::SPEED_TABLE_T + k,
             0.0,
             "s",
@@ -229,7 +229,7 @@ fn speed_table_vars() -> Vec<Variable> {
     }
     for k in 0..MAX_SPEED_POINTS as u32 {
         v.push(Variable::real_parameter(
-            leak(format!("speed_table_f_{:02}", k + 1)),
+            SPEED_TABLE_F_NAMES[k as usize],
             vr::SPEED_TABLE_F + k,
             0.0,
             "Hz",
@@ -239,20 +239,45 @@ fn speed_table_vars() -> Vec<Variable> {
     v
 }
 
-/// Variable names are `&'static str` (the table lives for the whole process, built once per
-/// `info()` call): the 32 numbered speed-table names are leaked once and reused.
-fn leak(name: String) -> &'static str {
-    use std::collections::HashMap;
-    use std::sync::{Mutex, OnceLock};
-    static NAMES: OnceLock<Mutex<HashMap<String, &'static str>>> = OnceLock::new();
-    let mut names = NAMES
-        .get_or_init(Default::default)
-        .lock()
-        .unwrap_or_else(|e| e.into_inner());
-    names
-        .entry(name.clone())
-        .or_insert_with(|| Box::leak(name.into_boxed_str()))
-}
+/// The speed-table points' names, as literals: a variable name is `&'static str`, and names
+/// built at run time would have to be leaked, memory that valgrind reports lost each time a
+/// master unloads the library.
+const SPEED_TABLE_T_NAMES: [&str; MAX_SPEED_POINTS] = [
+    "speed_table_t_01",
+    "speed_table_t_02",
+    "speed_table_t_03",
+    "speed_table_t_04",
+    "speed_table_t_05",
+    "speed_table_t_06",
+    "speed_table_t_07",
+    "speed_table_t_08",
+    "speed_table_t_09",
+    "speed_table_t_10",
+    "speed_table_t_11",
+    "speed_table_t_12",
+    "speed_table_t_13",
+    "speed_table_t_14",
+    "speed_table_t_15",
+    "speed_table_t_16",
+];
+const SPEED_TABLE_F_NAMES: [&str; MAX_SPEED_POINTS] = [
+    "speed_table_f_01",
+    "speed_table_f_02",
+    "speed_table_f_03",
+    "speed_table_f_04",
+    "speed_table_f_05",
+    "speed_table_f_06",
+    "speed_table_f_07",
+    "speed_table_f_08",
+    "speed_table_f_09",
+    "speed_table_f_10",
+    "speed_table_f_11",
+    "speed_table_f_12",
+    "speed_table_f_13",
+    "speed_table_f_14",
+    "speed_table_f_15",
+    "speed_table_f_16",
+];
 
 fn imbalance_vars(side: &'static [&'static str; 4], base: u32, d: &Imbalance) -> Vec<Variable> {
     vec![

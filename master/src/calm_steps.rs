@@ -30,8 +30,8 @@ use serde::Serialize;
 use std::f64::consts::TAU;
 
 /// Least damping ratio of every mode for a calm macro step. The coupling's damping error at a
-/// 100 us macro step is ~0.004 (docs/convergence.md, "Calm macro steps"), a fifth of this. 0.05
-/// until 2026-12-05: 0.02 lets a stable design run calm to the end instead of closing its window
+/// 100 us macro step is ~0.004 (docs/convergence.md, "Calm macro steps"), a fifth of this. 0.02
+/// rather than 0.05 lets a stable design run calm to the end instead of closing its window
 /// where its least damped mode dips below 0.05 (C20/dH40/c1000/d500: 10.1 -> 6.6 s, every
 /// time-series column within 1e-7 of its range), and moved the Section 3 presets' onsets by less
 /// than 1e-5 s ("Calm threshold 0.02" there).
@@ -58,12 +58,12 @@ pub struct CalmPlan {
 }
 
 /// The calm window of a run-up with `s`'s parameters and speed profile, its film coefficients on
-/// the coarse mesh of the linear predictions (`sweep_linear::DEFAULT_MESH`). Speeds found in
+/// the coarse mesh of the linear predictions (`stability::LINEAR_PREDICTION_MESH`). Speeds found in
 /// `cache` are not analysed again; the ones analysed here are added to it.
 pub fn plan(s: &RunupSettings, cache: Option<&LinearCache>) -> CalmPlan {
     let t0 = std::time::Instant::now();
     let mut coarse = s.clone();
-    (coarse.n_elem_phi, coarse.n_elem_z) = crate::sweep_linear::DEFAULT_MESH;
+    (coarse.n_elem_phi, coarse.n_elem_z) = crate::stability::LINEAR_PREDICTION_MESH;
     // The predictions' mesh is uniform: a run-up's graded one would give other film parameters,
     // whose analyses no prediction shares (and the linear analysis does not need it).
     coarse.mesh_grading = 1.0;
@@ -107,9 +107,10 @@ pub fn plan(s: &RunupSettings, cache: Option<&LinearCache>) -> CalmPlan {
                 .filter(|(_, k)| k.is_none())
                 .map(|(&f, _)| f)
                 .collect();
-            let mut analysed = per_speed(&rotor, &films, &missing)
-                .into_iter()
-                .map(|r| r.ok().map(|(res, _)| least_damping_ratio(&res)));
+            let mut analysed = per_speed(&rotor, &films, &missing).into_iter().map(|r| {
+                r.ok()
+                    .map(|(res, _)| crate::stability::least_damping_ratio(&res))
+            });
             let mut cache_note = None;
             let ratios = chunk
                 .iter()
@@ -155,19 +156,6 @@ pub fn describe(plan: &CalmPlan, calm_macro_step_us: f64) -> String {
         (None, Some(why)) => format!("no calm macro steps: {why}"),
         (None, None) => format!("no calm macro steps: no calm stretch ({basis})"),
     }
-}
-
-/// Least damping ratio over the oscillating modes; -1 for a static divergence (a positive real
-/// eigenvalue).
-pub(crate) fn least_damping_ratio(r: &crate::stability::SpeedResult) -> f64 {
-    if r.real_eigenvalues_per_s.iter().any(|&re| re > 0.0) {
-        return -1.0;
-    }
-    r.modes
-        .iter()
-        .map(|m| m.damping_ratio)
-        .fold(f64::INFINITY, f64::min)
-        .min(1.0)
 }
 
 /// A grid speed [Hz] and its least damping ratio (None: the analysis failed there).
@@ -279,62 +267,6 @@ fn first_calm_window_upto(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    /// A sweep's prediction fills the cache under the keys its run-ups look up (the same model
-    /// parameters from a study point's flags either way), and a plan from the cache is the plan
-    /// without it, bit for bit; the speeds the prediction did not analyse are added.
-    #[test]
-    fn a_plan_reuses_the_predictions_analyses_and_is_unchanged_by_them() {
-        let mut args = std::collections::BTreeMap::new();
-        for (k, v) in [
-            ("preset", "path1"),
-            ("clearance", "20"),
-            ("dh", "40"),
-            ("c", "1000"),
-            ("d", "500"),
-            ("rotor.disturbance_seed", "3"),
-            ("stop", "0.3"),
-        ] {
-            args.insert(k.to_string(), v.to_string());
-        }
-        let spec = crate::sweep::RunSpec {
-            index: 0,
-            name: "point".into(),
-            args: args.clone(),
-            grids: vec![],
-        };
-        let runup = crate::runup_cli::check_argv(&crate::sweep::runup_args(&args)).unwrap();
-        let dir = std::env::temp_dir().join(format!("airring-calm-cache-{}", std::process::id()));
-        let _ = std::fs::remove_dir_all(&dir);
-        let cache = LinearCache::open_for_build(&dir, "test").unwrap();
-        let entries = || std::fs::read_dir(&dir).unwrap().count();
-        let (p, _) = crate::sweep_linear::predict_point(
-            &spec,
-            &[100.0, 200.0],
-            crate::sweep_linear::DEFAULT_MESH,
-            Some(&cache),
-        );
-        assert!(p.error.is_none(), "{:?}", p.error);
-        assert_eq!(entries(), 2);
-        // 0.3 s of the ramp reaches 200 Hz: 50, 100, 150 and 200 Hz; two found, two analysed.
-        let cached = plan(&runup, Some(&cache));
-        assert_eq!(entries(), 4);
-        let fresh = plan(&runup, None);
-        assert_eq!(fresh.least_damping.len(), 4);
-        let bits = |p: &CalmPlan| -> Vec<(u64, Option<u64>)> {
-            p.least_damping
-                .iter()
-                .map(|(f, z)| (f.to_bits(), z.map(f64::to_bits)))
-                .collect()
-        };
-        assert_eq!(bits(&cached), bits(&fresh));
-        assert_eq!(cached.windows_s, fresh.windows_s);
-        assert!(!fresh.windows_s.is_empty(), "{fresh:?}");
-        // A plan from the full cache: the same values, no new entries.
-        assert_eq!(bits(&plan(&runup, Some(&cache))), bits(&fresh));
-        assert_eq!(entries(), 4);
-        std::fs::remove_dir_all(&dir).unwrap();
-    }
 
     #[test]
     fn the_window_is_the_first_calm_stretch_only() {

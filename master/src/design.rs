@@ -10,8 +10,9 @@
 //! mount_d = "50 N.s/m"
 //! ring_mass = "50 g"
 //!
-//! [bearing.T]            # the turbine bearing only (overrides [bearing]); [bearing.C] likewise
-//! C = "25 um"
+//! [bearing.turbine]      # the turbine bearing only (overrides [bearing]); [bearing.compressor]
+//! C = "25 um"            # likewise (the old names [bearing.T], [bearing.C] are read where the
+//!                        # file parses: [bearing.C] collides with the clearance key C)
 //!
 //! [rotor]                # rotor.fmu parameters: mass, inertia, journal and wheel positions, imbalance
 //! m = "4.5 kg"
@@ -23,86 +24,7 @@
 //! flag edit one description; the rotor's contact geometry is derived from the films (runup/mod.rs).
 
 use crate::fmu_params::FmuParameter;
-use crate::runup::RunupSettings;
-use std::path::{Path, PathBuf};
-
-/// The flags that describe the rotor and its bearings, shared by `airring runup` and `airring
-/// stability` (a study's keys are the same flags): a preset, a design file over it, then the
-/// flags, then `--set` (each later one wins).
-#[derive(clap::Args, Clone, Debug)]
-pub struct DesignArgs {
-    /// Paper Section 3 parameter set: path1 (c = 1000 N/mm), path2a (500 N/mm), path2b (100 N/mm, 150 g rings).
-    #[arg(long, default_value = "path1")]
-    pub preset: String,
-    /// A design file (TOML: [bearing], [bearing.C], [bearing.T], [rotor]; see docs/design.md)
-    /// applied over the preset; the flags below override it.
-    #[arg(long)]
-    pub design: Option<PathBuf>,
-    /// Ring mount stiffness c [N/mm] (both bearings).
-    #[arg(long)]
-    pub c: Option<f64>,
-    /// Ring mount damping d [N s/m] (both bearings).
-    #[arg(long)]
-    pub d: Option<f64>,
-    /// Ring mass m_R [g] (each ring).
-    #[arg(long)]
-    pub m_r: Option<f64>,
-    /// Nominal clearance C [um] (both bearings).
-    #[arg(long)]
-    pub clearance: Option<f64>,
-    /// Step height dH [um] (both bearings).
-    #[arg(long)]
-    pub dh: Option<f64>,
-    /// Air-film mesh per lobe, uniform, e.g. 20x6 (elements along the lobe x across the half
-    /// width; --set film.mesh_grading=G grades it toward each lobe's trailing edge). Default: the
-    /// paper's 20x6; a run-up without it takes 10x2 or 10x3 graded by 0.8, 20x4 or 20x6 by the
-    /// largest bearing number of its films, 10x2 with film tolerance 6e-4,60 (docs/convergence.md,
-    /// "A graded film mesh along the lobe", "Two elements across the half width").
-    #[arg(long)]
-    pub mesh: Option<String>,
-    /// Any other FMU parameter, repeatable: PREFIX.NAME=VALUE with PREFIX rotor, film (both
-    /// films), film_C or film_T; VALUE a number (SI) or "number unit" (e.g. --set film.eta=1.9e-5,
-    /// --set "rotor.c_C=1500 N/mm"). Replaces a value the run-up would set itself.
-    #[arg(long = "set", value_name = "FMU.NAME=VALUE")]
-    pub set: Vec<String>,
-}
-
-impl DesignArgs {
-    /// The settings these flags describe (checked with `RunupSettings::validate`).
-    pub fn settings(&self) -> Result<RunupSettings, String> {
-        let mut s = RunupSettings::preset(&self.preset)?;
-        let mut design = match &self.design {
-            Some(p) => Design::load(p)?,
-            None => Design::default(),
-        };
-        // A flag given explicitly overrides the design's entries of the same variables.
-        let overridden: [(bool, &[&str]); 5] = [
-            (self.c.is_some(), &["rotor.c_C", "rotor.c_T"]),
-            (self.d.is_some(), &["rotor.d_C", "rotor.d_T"]),
-            (self.m_r.is_some(), &["rotor.m_R_C", "rotor.m_R_T"]),
-            (self.clearance.is_some(), &["film.C"]),
-            (self.dh.is_some(), &["film.dH"]),
-        ];
-        for (given, keys) in overridden {
-            if given {
-                design = design.without(keys);
-            }
-        }
-        s.c_n_per_mm = self.c.unwrap_or(s.c_n_per_mm);
-        s.d_n_s_per_m = self.d.unwrap_or(s.d_n_s_per_m);
-        s.m_r_g = self.m_r.unwrap_or(s.m_r_g);
-        s.clearance_um = self.clearance.unwrap_or(s.clearance_um);
-        s.dh_um = self.dh.unwrap_or(s.dh_um);
-        if let Some(m) = &self.mesh {
-            (s.n_elem_phi, s.n_elem_z) = crate::runup::parse_mesh(m, "--mesh")?;
-        }
-        s.design = self.design.clone();
-        s.fmu_parameters = design.entries;
-        s.fmu_parameters
-            .extend(crate::fmu_params::parse_set_flags(&self.set)?);
-        Ok(s)
-    }
-}
+use std::path::Path;
 
 /// Air-film parameters that describe the bearing itself (not the mesh or the solver).
 const FILM_KEYS: &[&str] = &[
@@ -137,8 +59,13 @@ impl Design {
         Design::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
     }
 
+    /// Parses a design file's text. A TOML error names the line and column and what is wrong,
+    /// never the line's text: a file that is not a design (`design = "/etc/passwd"`) must not
+    /// have its content echoed.
     pub fn parse(text: &str) -> Result<Design, String> {
-        let table: toml::Table = text.parse().map_err(|e: toml::de::Error| e.to_string())?;
+        let table: toml::Table = text
+            .parse()
+            .map_err(|e: toml::de::Error| toml_error_without_text(text, &e))?;
         let mut d = Design::default();
         for (section, value) in &table {
             let t = value
@@ -148,23 +75,37 @@ impl Design {
                 "bearing" => {
                     // Both bearings first, then the per-bearing tables, so those win.
                     d.bearing(t, None)?;
-                    for (side, v) in t.iter().filter(|(_, v)| v.is_table()) {
-                        let side = match side.as_str() {
-                            "C" => "C",
-                            "T" => "T",
+                    // `[bearing.compressor]` and `[bearing.turbine]`; `[bearing.C]` and
+                    // `[bearing.T]` are read too, where the file parses (they collide with the
+                    // clearance key `C` in `[bearing]`: TOML refuses a key defined twice).
+                    let mut seen: [Option<&str>; 2] = [None, None];
+                    for (name, v) in t.iter().filter(|(_, v)| v.is_table()) {
+                        let (k, side) = match name.as_str() {
+                            "compressor" | "C" => (0, "C"),
+                            "turbine" | "T" => (1, "T"),
                             other => {
                                 return Err(format!(
-                                    "[bearing.{other}]: a bearing is C (compressor) or T (turbine)"
+                                    "[bearing.{other}]: the per-bearing tables are \
+                                     [bearing.compressor] and [bearing.turbine]"
                                 ))
                             }
                         };
-                        d.bearing(v.as_table().expect("a table"), Some(side))?;
+                        if let Some(first) = seen[k] {
+                            return Err(format!(
+                                "[bearing.{first}] and [bearing.{name}] describe the same bearing: \
+                                 keep one ([bearing.{}])",
+                                ["compressor", "turbine"][k]
+                            ));
+                        }
+                        seen[k] = Some(name.as_str());
+                        d.bearing_side(v.as_table().expect("a table"), side, name)?;
                     }
                 }
                 "rotor" => d.rotor(t)?,
                 other => {
                     return Err(format!(
-                        "unknown section [{other}] (a design has [bearing], [bearing.C], [bearing.T] and [rotor])"
+                        "unknown section [{other}] (a design has [bearing], [bearing.compressor], \
+                         [bearing.turbine] and [rotor])"
                     ))
                 }
             }
@@ -172,12 +113,29 @@ impl Design {
         Ok(d)
     }
 
-    /// The entries of one bearing table (`side` None: both bearings).
+    /// The entries of one bearing's table (`side` "C" or "T"; `table` its name in the file).
+    fn bearing_side(&mut self, t: &toml::Table, side: &str, table: &str) -> Result<(), String> {
+        if let Some((key, _)) = t.iter().find(|(_, v)| v.is_table()) {
+            return Err(format!(
+                "[bearing.{table}.{key}]: a bearing's table holds values only"
+            ));
+        }
+        self.bearing_entries(t, Some(side), &format!("[bearing.{table}]"))
+    }
+
+    /// The entries of `[bearing]`, for both bearings.
     fn bearing(&mut self, t: &toml::Table, side: Option<&str>) -> Result<(), String> {
-        let at = |key: &str| match side {
-            Some(s) => format!("[bearing.{s}] {key}"),
-            None => format!("[bearing] {key}"),
-        };
+        self.bearing_entries(t, side, "[bearing]")
+    }
+
+    /// The values of a bearing table (`side` None: both bearings; `table` as the file names it).
+    fn bearing_entries(
+        &mut self,
+        t: &toml::Table,
+        side: Option<&str>,
+        table: &str,
+    ) -> Result<(), String> {
+        let at = |key: &str| format!("{table} {key}");
         for (key, v) in t.iter().filter(|(_, v)| !v.is_table()) {
             let text = crate::fmu_params::toml_value_text(v).ok_or_else(|| {
                 format!(
@@ -259,6 +217,20 @@ impl Design {
             .map(|(e, at)| (e.clone(), at.clone()))
             .unzip();
         Design { entries, sources }
+    }
+}
+
+/// A TOML error as "line L, column C: message", without the snippet of the file's text that
+/// the parser's own message quotes.
+pub fn toml_error_without_text(text: &str, e: &toml::de::Error) -> String {
+    match e.span() {
+        Some(span) => {
+            let before = &text[..span.start.min(text.len())];
+            let line = before.matches('\n').count() + 1;
+            let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+            format!("line {line}, column {column}: {}", e.message())
+        }
+        None => e.message().to_string(),
     }
 }
 
@@ -370,7 +342,15 @@ m = "4.5 kg"
         for (text, expect) in [
             ("[bearing]\nn_elem_phi = 30", "--mesh"),
             ("[bearing]\nC = \"20 furlongs\"", "[bearing] C"),
-            ("[bearing.X]\nC = 1e-5", "C (compressor) or T (turbine)"),
+            (
+                "[bearing.X]\nC = 1e-5",
+                "[bearing.compressor] and [bearing.turbine]",
+            ),
+            (
+                "[bearing.C]\nC = 1e-5\n[bearing.compressor]\nC = 2e-5",
+                "describe the same bearing",
+            ),
+            ("[bearing.turbine.x]\nC = 1e-5", "holds values only"),
             ("[rotor]\nc_C = \"1 N/mm\"", "mount_c"),
             ("[rotor]\nbearing_C = 1e-5", "[bearing]"),
             ("[rotor]\nf_max = 1000.0", "--f-max"),
@@ -385,6 +365,39 @@ m = "4.5 kg"
                 "{text}: {e}"
             );
         }
+    }
+
+    /// The clearance of both bearings and a table for one of them: the docs' first format put
+    /// `C = ...` and `[bearing.C]` in one table, which TOML refuses (a key defined twice). The
+    /// per-bearing tables are `[bearing.compressor]` and `[bearing.turbine]`; the old names are
+    /// read where they parse.
+    #[test]
+    fn the_clearance_and_the_compressor_bearings_table_do_not_collide() {
+        let text = "[bearing]\nC = \"20 um\"\n[bearing.compressor]\nC = \"22 um\"\n\
+                    [bearing.turbine]\nmount_d = 80.0\n";
+        let d = Design::parse(text).unwrap();
+        let keys: Vec<&str> = d.entries.iter().map(|(k, _)| k.as_str()).collect();
+        assert_eq!(keys, ["film.C", "film_C.C", "rotor.d_T"]);
+        assert_eq!(d.sources[1], "[bearing.compressor] C");
+        // The old format fails in TOML itself where it collides ...
+        let e =
+            Design::parse("[bearing]\nC = \"20 um\"\n[bearing.C]\nmount_d = 1.0\n").unwrap_err();
+        assert!(e.starts_with("line 3, column"), "{e}");
+        // ... and is read where it does not.
+        let old =
+            Design::parse("[bearing.C]\nC = \"22 um\"\n[bearing.T]\nmount_d = 80.0\n").unwrap();
+        assert_eq!(old.entries, d.entries[1..].to_vec());
+        assert_eq!(old.sources, ["[bearing.C] C", "[bearing.T] mount_d"]);
+    }
+
+    /// A file that is not a design (a study's `design = "/etc/passwd"`) is refused naming the
+    /// line and column, without echoing its content.
+    #[test]
+    fn a_toml_error_does_not_echo_the_file() {
+        let secret = "root:x:0:0:root:/root:/bin/bash\n";
+        let e = Design::parse(secret).unwrap_err();
+        assert!(!e.contains("root"), "{e}");
+        assert!(e.starts_with("line 1, column"), "{e}");
     }
 
     /// An FMU's refusal of a value the design file set names the file and the entry; not where

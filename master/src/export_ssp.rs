@@ -23,7 +23,8 @@ pub fn run_cli(a: &ExportSspArgs) -> Result<(), String> {
             a.out.display()
         ));
     }
-    if a.out.exists() && !a.overwrite {
+    // A link counts as existing (also one to nothing); --overwrite replaces the link itself.
+    if std::fs::symlink_metadata(&a.out).is_ok() && !a.overwrite {
         return Err(format!(
             "--out {}: exists; choose another file or pass --overwrite to replace it",
             a.out.display()

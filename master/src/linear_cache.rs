@@ -122,7 +122,8 @@ impl LinearCache {
         };
         let tmp = path.with_extension(format!("tmp-{}", std::process::id()));
         let text = serde_json::to_string(&entry).expect("entry serializes");
-        std::fs::write(&tmp, text)
+        cosim::files::create_replacing(&tmp)
+            .and_then(|mut f| std::io::Write::write_all(&mut f, text.as_bytes()))
             .and_then(|_| std::fs::rename(&tmp, &path))
             .map_err(|e| {
                 let _ = std::fs::remove_file(&tmp);

@@ -31,8 +31,8 @@ enum Command {
     /// Any system described by a TOML system file.
     #[command(allow_negative_numbers = true)]
     Run {
-        /// The system file (TOML; its format is documented in cosim/src/system.rs, the cosim
-        /// crate's `system` module; a run folder's system.toml is one).
+        /// The system file (TOML; its format: docs/reference/system-file.md; a run folder's
+        /// system.toml is one).
         system: PathBuf,
         #[command(flatten)]
         common: Common,
@@ -271,7 +271,8 @@ fn stop_flag() -> Arc<AtomicBool> {
         // Ctrl-C, and (ctrlc's `termination` feature) SIGTERM and SIGHUP: a batch system's time
         // limit stops a run the same way, leaving a checkpoint to resume from.
         eprintln!(
-            "\nstop signal: stopping at the next macro step (checkpoint and summary are written)"
+            "\nstop signal: stopping at the next macro step (a run that has not reached its stop \
+             time writes its checkpoint and summary)"
         );
     });
     flag
@@ -671,6 +672,7 @@ fn main() -> ExitCode {
                     dir.display()
                 ));
             }
+            master::out_folder::check_not_in_progress(&dir)?;
             let old = master::summary::RunSummary::read(&dir).unwrap_or_default();
             if old.status == master::summary::RunStatus::Completed {
                 return Err(format!(
@@ -761,8 +763,8 @@ fn main() -> ExitCode {
             Ok(ExitCode::SUCCESS)
         }
         Command::SweepSensitivity { dir, delta } => {
-            let runs = master::sweep::sensitivity::sensitivity(&dir, delta)?;
-            let (path, text) = master::sweep::sensitivity::write(&dir, delta, &runs)?;
+            let (runs, left_out) = master::sweep::sensitivity::sensitivity(&dir, delta)?;
+            let (path, text) = master::sweep::sensitivity::write(&dir, delta, &runs, &left_out)?;
             print!("{text}");
             eprintln!("-> {}", path.display());
             Ok(ExitCode::SUCCESS)

@@ -95,11 +95,10 @@ pub fn modal(
     });
     if let Some(dir) = out {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        std::fs::write(
-            dir.join("modal.json"),
-            serde_json::to_string_pretty(&v).unwrap(),
-        )
-        .map_err(|e| e.to_string())?;
+        crate::output::write_whole(
+            &dir.join("modal.json"),
+            serde_json::to_string_pretty(&v).unwrap().as_bytes(),
+        )?;
         let files = campbell(&v)
             .save(dir, "campbell")
             .map_err(|e| e.to_string())?;

@@ -272,6 +272,8 @@ pub fn set_param(store: &mut fmi2::Store, spec: &str) -> Result<(), String> {
     Ok(())
 }
 
+use cosim::number::short as n;
+
 /// One output row: the time and the film's outputs after the step ending there.
 pub type Row = (f64, FilmOutputs);
 
@@ -286,22 +288,32 @@ pub fn run_orbit(
 ) -> Result<Vec<Row>, String> {
     if !(start_s.is_finite() && stop_s.is_finite()) {
         return Err(format!(
-            "start time {start_s} s and stop time {stop_s} s must be finite numbers"
+            "start time {} s and stop time {} s must be finite numbers",
+            n(start_s),
+            n(stop_s)
         ));
     }
     if stop_s <= start_s {
         return Err(format!(
-            "stop time {stop_s} s must be after the start time {start_s} s"
+            "stop time {} s must be after the start time {} s",
+            n(stop_s),
+            n(start_s)
         ));
     }
     if !(interval_s.is_finite() && interval_s > 0.0) {
-        return Err(format!("the communication step {interval_s} s must be > 0"));
+        return Err(format!(
+            "the communication step {} s must be > 0",
+            n(interval_s)
+        ));
     }
     let steps = (stop_s - start_s) / interval_s;
     if steps > MAX_ORBIT_STEPS {
         return Err(format!(
-            "a communication step of {interval_s} s gives {steps:.3e} steps from {start_s} s to \
-             {stop_s} s (at most {MAX_ORBIT_STEPS:e}: the rows are kept in memory)"
+            "a communication step of {} s gives {steps:.3e} steps from {} s to {} s (at most \
+             {MAX_ORBIT_STEPS:e}: the rows are kept in memory)",
+            n(interval_s),
+            n(start_s),
+            n(stop_s)
         ));
     }
     let info = AirFilmFmu::info();
@@ -379,7 +391,7 @@ pub fn write_csv(path: &Path, rows: &[Row]) -> Result<(), String> {
             o.fx_n, o.fy_n, o.eps, o.h_min_m, o.p_max_pa, o.f_contact_n
         ));
     }
-    std::fs::write(path, s).map_err(|e| format!("{}: {e}", path.display()))
+    crate::output::write_whole(path, s.as_bytes())
 }
 
 /// The command: read, run, write, report.
@@ -391,21 +403,24 @@ pub fn run_cli(a: &OrbitArgs) -> Result<(), String> {
         .stop
         .unwrap_or(*table.t_s.last().expect("at least one row"));
     if !(a.step.is_finite() && a.step > 0.0) {
-        return Err(format!("--step {} us must be > 0", a.step));
+        return Err(format!("--step {} us must be > 0", n(a.step)));
     }
     // Checked before the note on the table's range, which a non-finite time would only confuse.
     for (flag, t) in [("--start", a.start), ("--stop", stop)] {
         if !t.is_finite() {
-            return Err(format!("{flag} = {t} s must be a finite number"));
+            return Err(format!("{flag} = {} s must be a finite number", n(t)));
         }
     }
     let (first, last) = (table.t_s[0], *table.t_s.last().expect("at least one row"));
     if a.start < first || stop > last {
         // FMPy holds the inputs outside the table too; said, since it is rarely meant.
         eprintln!(
-            "note: the run ({} s to {stop} s) reaches outside the input table ({first} s to \
-             {last} s); the inputs are held at the table's end values there, as FMPy holds them",
-            a.start
+            "note: the run ({} s to {} s) reaches outside the input table ({} s to {} s); the \
+             inputs are held at the table's end values there, as FMPy holds them",
+            n(a.start),
+            n(stop),
+            n(first),
+            n(last)
         );
     }
     // "10" us -> the double nearest 1e-5 s, as FMPy's output_interval=1e-5.

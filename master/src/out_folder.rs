@@ -118,32 +118,8 @@ impl RunLock {
                     return Ok(RunLock { path });
                 }
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
-                    let held = std::fs::read_to_string(&path).unwrap_or_default();
-                    let mut words = held.split_whitespace();
-                    let pid = words.next().and_then(|p| p.parse::<i32>().ok());
-                    let host = words.next().unwrap_or("").to_string();
-                    let alive = match pid {
-                        Some(pid) if host == host_name() => process_alive(pid),
-                        // Another host's process: it cannot be checked from here.
-                        Some(_) => true,
-                        // Empty or unreadable: a lock still being written (respected while it
-                        // is young), or one a crash cut short.
-                        None => path
-                            .metadata()
-                            .and_then(|m| m.modified())
-                            .ok()
-                            .and_then(|t| t.elapsed().ok())
-                            .is_none_or(|age| age < std::time::Duration::from_secs(10)),
-                    };
-                    if alive {
-                        return Err(format!(
-                            "{}: a run is in progress here (process {} on {}); wait for it to \
-                             end or stop it first (if that process is gone, remove {})",
-                            dir.display(),
-                            pid.map_or("?".into(), |p| p.to_string()),
-                            if host.is_empty() { "?" } else { &host },
-                            path.display()
-                        ));
+                    if let Some(held) = live_holder(&path) {
+                        return Err(held.refusal(dir, &path));
                     }
                     // Left by a run that was killed: taken over.
                     let _ = std::fs::remove_file(&path);
@@ -161,6 +137,65 @@ impl RunLock {
 impl Drop for RunLock {
     fn drop(&mut self) {
         let _ = std::fs::remove_file(&self.path);
+    }
+}
+
+/// The process that holds a run lock.
+struct Holder {
+    pid: Option<i32>,
+    host: String,
+}
+
+impl Holder {
+    fn refusal(&self, dir: &Path, lock: &Path) -> String {
+        format!(
+            "{}: a run is in progress here (process {} on {}); wait for it to end or stop it \
+             first (if that process is gone, remove {})",
+            dir.display(),
+            self.pid.map_or("?".into(), |p| p.to_string()),
+            if self.host.is_empty() {
+                "?"
+            } else {
+                &self.host
+            },
+            lock.display()
+        )
+    }
+}
+
+/// The live process holding the lock file `path`, if any: one on this host that still runs,
+/// one on another host (a cluster's shared file system: it cannot be checked from here), or a
+/// lock still being written (empty and young). None: no lock, or one a killed run left.
+fn live_holder(path: &Path) -> Option<Holder> {
+    if std::fs::symlink_metadata(path).is_err() {
+        return None;
+    }
+    let held = std::fs::read_to_string(path).unwrap_or_default();
+    let mut words = held.split_whitespace();
+    let pid = words.next().and_then(|p| p.parse::<i32>().ok());
+    let host = words.next().unwrap_or("").to_string();
+    let alive = match pid {
+        Some(pid) if host == host_name() => process_alive(pid),
+        Some(_) => true,
+        // Empty or unreadable: a lock still being written (respected while it is young), or one
+        // a crash cut short.
+        None => path
+            .symlink_metadata()
+            .and_then(|m| m.modified())
+            .ok()
+            .and_then(|t| t.elapsed().ok())
+            .is_none_or(|age| age < std::time::Duration::from_secs(10)),
+    };
+    alive.then_some(Holder { pid, host })
+}
+
+/// Refuses `dir` while a live process holds its run lock (checked before anything else is said
+/// of the folder: a run without a checkpoint that is still going is not a killed one).
+pub fn check_not_in_progress(dir: &Path) -> Result<(), String> {
+    let path = dir.join(LOCK_FILE);
+    match live_holder(&path) {
+        Some(h) => Err(h.refusal(dir, &path)),
+        None => Ok(()),
     }
 }
 
@@ -208,7 +243,14 @@ impl StagedSystem {
             "{STAGED_PREFIX}{}-{nanos}.toml",
             std::process::id()
         ));
-        std::fs::write(&path, text).map_err(|e| format!("{}: {e}", path.display()))?;
+        // Created exclusively: the temporary folder is shared, and a link planted under this
+        // name must not be written through.
+        std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(&path)
+            .and_then(|mut f| std::io::Write::write_all(&mut f, text.as_bytes()))
+            .map_err(|e| format!("{}: {e}", path.display()))?;
         Ok(StagedSystem { path })
     }
 }
@@ -334,6 +376,12 @@ impl Observer for StartGuard {
                 ));
             }
         }
+        Ok(())
+    }
+
+    /// Only once every observer has accepted the run (a refused resume leaves the folder byte
+    /// for byte as it was): the old outputs go and the summary says "running".
+    fn begun(&mut self, run: &RunStart<'_>) -> Result<(), String> {
         if run.resumed_from.is_none() {
             // The figures of the run this one replaces, as its summary lists them.
             let old_plots = RunSummary::read(&self.dir)

@@ -4,7 +4,6 @@
 //! at the end of every sweep and merge. The page is well-formed XHTML (tests parse it as XML).
 
 use crate::summary::RunSummary;
-use crate::sweep::RunRecord;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -25,7 +24,7 @@ pub fn escape(s: &str) -> String {
 }
 
 /// A file name or relative path as a link target (each component percent-encoded where needed).
-fn href(rel: &str) -> String {
+pub(crate) fn href(rel: &str) -> String {
     let mut out = String::new();
     for b in rel.bytes() {
         match b {
@@ -45,7 +44,7 @@ color:#222}table{border-collapse:collapse;margin:1em 0}td,th{border:1px solid #c
 text-align:left;font-size:90%}th{background:#f0f0f0}.figure{margin:1.5em 0}.figure svg{max-width:100%;\
 height:auto}.class{font-size:130%;font-weight:bold}.note{color:#a33}code{background:#f4f4f4}";
 
-fn page(title: &str, body: &str) -> String {
+pub(crate) fn page(title: &str, body: &str) -> String {
     format!(
         "<!DOCTYPE html>\n<html xmlns=\"http://www.w3.org/1999/xhtml\" lang=\"en\">\n<head>\n\
          <meta charset=\"utf-8\"/>\n<title>{}</title>\n<style>{STYLE}</style>\n</head>\n<body>\n{body}\
@@ -55,13 +54,13 @@ fn page(title: &str, body: &str) -> String {
 }
 
 /// The SVG text of a figure file, without its XML declaration, to inline in the page.
-fn inline_svg(path: &Path) -> Option<String> {
+pub(crate) fn inline_svg(path: &Path) -> Option<String> {
     let text = std::fs::read_to_string(path).ok()?;
     let start = text.find("<svg")?;
     Some(text[start..].to_string())
 }
 
-fn fmt_opt(v: Option<f64>, digits: usize, unit: &str) -> String {
+pub(crate) fn fmt_opt(v: Option<f64>, digits: usize, unit: &str) -> String {
     v.map_or_else(|| "-".to_string(), |x| format!("{x:.digits$}{unit}"))
 }
 
@@ -262,7 +261,7 @@ pub fn write_run_report(dir: &Path, s: &RunSummary) -> Result<PathBuf, String> {
 /// `path` relative to `base` when it lies below it, else as it is.
 /// `path` as a link from a page in `base`: below it as it is, elsewhere (a merged sweep's runs
 /// in the shards' folders) through "..", found from both folders' real locations.
-fn relative(path: &Path, base: &Path) -> String {
+pub(crate) fn relative(path: &Path, base: &Path) -> String {
     if let Ok(below) = path.strip_prefix(base) {
         return below.to_string_lossy().into_owned();
     }
@@ -284,77 +283,6 @@ fn relative(path: &Path, base: &Path) -> String {
     }
     rel.extend(&pc[common..]);
     rel.to_string_lossy().into_owned()
-}
-
-/// Writes `out/report.html` for a sweep: its maps inline, its table, a link to each run's page.
-pub fn write_sweep_report(
-    out: &Path,
-    title: &str,
-    table: &Path,
-    maps: &[PathBuf],
-    records: &[RunRecord],
-) -> Result<PathBuf, String> {
-    let mut b = String::new();
-    let _ = writeln!(b, "<h1>Sweep {}</h1>", escape(title));
-    let _ = writeln!(
-        b,
-        "<p>{} runs. Table: <a href=\"{}\">{}</a></p>",
-        records.len(),
-        href(&relative(table, out)),
-        escape(&relative(table, out))
-    );
-    let svgs: Vec<&PathBuf> = maps
-        .iter()
-        .filter(|m| m.extension().is_some_and(|e| e == "svg"))
-        .collect();
-    if !svgs.is_empty() {
-        b.push_str("<h2>Bifurcation maps</h2>\n");
-        for m in svgs {
-            if let Some(svg) = inline_svg(m) {
-                let _ = writeln!(
-                    b,
-                    "<div class=\"figure\">{svg}<p><a href=\"{}\">{}</a></p></div>",
-                    href(&relative(m, out)),
-                    escape(&relative(m, out))
-                );
-            }
-        }
-    }
-    b.push_str(
-        "<h2>Runs</h2>\n<table>\n<tr><th>run</th><th>status</th><th>class</th>\
-                <th>onset [Hz]</th><th>max eps C</th><th>max eps T</th><th>wall [s]</th></tr>\n",
-    );
-    let mut sorted: Vec<&RunRecord> = records.iter().collect();
-    sorted.sort_by_key(|r| r.index);
-    for r in sorted {
-        let page = r.dir.join("report.html");
-        let name = if page.is_file() {
-            format!(
-                "<a href=\"{}\">{}</a>",
-                href(&relative(&page, out)),
-                escape(&r.name)
-            )
-        } else {
-            escape(&r.name)
-        };
-        let _ = writeln!(
-            b,
-            "<tr><td>{name}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td></tr>",
-            escape(&r.status),
-            escape(r.classification.as_deref().unwrap_or("-")),
-            fmt_opt(r.onset_speed_hz, 0, ""),
-            fmt_opt(r.max_eps_c, 3, ""),
-            fmt_opt(r.max_eps_t, 3, ""),
-            fmt_opt(r.wall_time_s, 0, "")
-        );
-    }
-    b.push_str("</table>\n");
-    let path = out.join("report.html");
-    crate::output::write_whole(
-        &path,
-        page(&format!("AirRing sweep {title}"), &b).as_bytes(),
-    )?;
-    Ok(path)
 }
 
 #[cfg(test)]

@@ -252,7 +252,22 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
             report.error.get_or_insert(e);
         }
     }
-    write_summary(opts, recorded, &rows.rows, &report)?;
+    match write_summary(opts, recorded, &rows.rows, &report) {
+        Err(e) => {
+            // What ended the run comes first (a full disk is first met by the series; the
+            // summary then fails on it too).
+            return Err(match &report.error {
+                Some(first) => format!("{first}; the summary could not be written either: {e}"),
+                None => e,
+            });
+        }
+        // A figure or the report page that could not be written is an output missing: the run
+        // ends with an error the caller sees (exit status), though summary.json is complete.
+        Ok(Some(missing)) => {
+            report.error.get_or_insert(missing);
+        }
+        Ok(None) => {}
+    }
     Ok(report)
 }
 
@@ -296,12 +311,14 @@ pub fn runup_series(
     })
 }
 
+/// Writes summary.json (an error if it cannot be written), then the figures and report.html it
+/// lists; returns what of those could not be written.
 fn write_summary(
     opts: &RunOptions,
     recorded: &[Recorded],
     rows: &[Vec<f64>],
     report: &RunReport,
-) -> Result<(), String> {
+) -> Result<Option<String>, String> {
     let mut summary = RunSummary::of_report(report, opts.extra.clone());
     let bores = match &opts.bores {
         Some(b) => Some(b.clone()),
@@ -329,6 +346,9 @@ fn write_summary(
                 t: bores[1].c_m * 1e6,
             });
             summary.hysteresis = crate::analysis::hysteresis(&series, &cl);
+            // The results first, then the figures: figures that fill the disk must not leave
+            // the folder with only the "running" summary (the list of figures follows below).
+            summary.write(&opts.out_dir)?;
             let mut figures = plot_runup(&series, &cl, bores, &opts.out_dir);
             if let (Ok(files), Some(h)) = (&mut figures, &summary.hysteresis) {
                 match crate::plot::plot_hysteresis(&series, h, &opts.out_dir) {
@@ -353,12 +373,25 @@ fn write_summary(
     if let Some(files) = power_loss(&mut summary, recorded, rows, &opts.out_dir) {
         summary.plots.get_or_insert_with(Vec::new).extend(files);
     }
-    summary.write(&opts.out_dir)?;
-    // The page is a view of the summary: failing to write it loses nothing, so it is a warning.
-    if let Err(e) = crate::report::write_run_report(&opts.out_dir, &summary) {
-        eprintln!("warning: report.html: {e}");
+    if let Err(e) = summary.write(&opts.out_dir) {
+        // The figures take the space first: say so beside the summary's own error.
+        return Err(match &summary.plot_error {
+            Some(p) => format!("figures not written: {p}; {e}"),
+            None => e,
+        });
     }
-    Ok(())
+    let mut missing = summary
+        .plot_error
+        .as_ref()
+        .map(|e| format!("figures not written: {e} (summary.json and the series are complete)"));
+    if let Err(e) = crate::report::write_run_report(&opts.out_dir, &summary) {
+        let e = format!("report.html not written: {e}");
+        missing = Some(match missing {
+            Some(m) => format!("{m}; {e}"),
+            None => e,
+        });
+    }
+    Ok(missing)
 }
 
 /// The films' friction power loss into the summary (and its figure), if the run recorded the

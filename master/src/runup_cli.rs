@@ -10,7 +10,7 @@ use std::path::PathBuf;
 pub struct RunupArgs {
     /// The rotor and its bearings (shared with `airring stability`).
     #[command(flatten)]
-    pub bearing: crate::design::DesignArgs,
+    pub bearing: crate::runup::DesignArgs,
     /// Final speed [Hz] (at most 20000)
     #[arg(long)]
     pub f_max: Option<f64>,
@@ -66,13 +66,12 @@ pub struct RunupArgs {
     pub serial_films: bool,
     /// Macro-step control: "RTOL,ATOL_N" of the extrapolated bearing forces (a step whose
     /// extrapolated force misses the film's by more than ATOL + RTOL |F| is retried in halves,
-    /// down to 1/64), or "off" for a fixed macro step [default: 0.3,3; 0.1,1 until 2026-12-04]
+    /// down to 1/64), or "off" for a fixed macro step [default: 0.3,3]
     #[arg(long)]
     pub step_control: Option<String>,
     /// Air-film time-integration tolerances "RTOL,ATOL_PA" [default: 1e-3,100, and 6e-4,60 with
-    /// the 10x2 mesh a run-up chooses for the larger clearances (3e-3,300 with the paper's 20x6
-    /// mesh in sessions 22-27, `--mesh 20x6 --film-tolerance 3e-3,300`); the FMU's own defaults
-    /// are 1e-4,10]
+    /// the 10x2 mesh a run-up chooses for the larger clearances; the FMU's own defaults are
+    /// 1e-4,10]
     #[arg(long)]
     pub film_tolerance: Option<String>,
     /// Where the journal-ring contact is evaluated: "rotor" (implicitly inside the rotor's

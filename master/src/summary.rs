@@ -208,7 +208,7 @@ mod tests {
 
     #[test]
     fn summaries_of_earlier_versions_and_failures_read_back() {
-        // Written by the run-up of session 6 (no clearances, no counters) ...
+        // Written by an older run-up (no clearances, no counters) ...
         let old = r#"{ "status": "interrupted", "interrupted": true, "error": null,
             "classification": null, "onset_time_s": null, "max_eps_C": null, "max_eps_T": null,
             "settings": { "clearance_um": 20.0 }, "wall_time_s": 12.5 }"#;

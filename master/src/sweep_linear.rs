@@ -17,10 +17,8 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-/// Default film mesh per lobe of the prediction when the study does not set one: on the path-1
-/// parameters it gives the paper mesh's threshold within 0.15 % and its growth exponents within 1 %
-/// at a tenth of the time (docs/stability.md).
-pub const DEFAULT_MESH: (u32, u32) = (8, 2);
+/// Default film mesh per lobe of the prediction when the study does not set one.
+pub const DEFAULT_MESH: (u32, u32) = crate::stability::LINEAR_PREDICTION_MESH;
 
 /// Accumulated growth exponent at which a whirl seeded by the default disturbance becomes visible
 /// to the run-up classifier (0.02 C): calibrated on the three Section 3 run-ups.
@@ -41,7 +39,7 @@ pub fn settings_for(
             .transpose()
     };
     // The same mapping as the command line's (`airring stability` flags).
-    let flags = crate::design::DesignArgs {
+    let flags = crate::runup::DesignArgs {
         preset: args
             .get("preset")
             .cloned()
@@ -290,7 +288,7 @@ fn keep_for_calm_plans(cache: &LinearCache, s: &RunupSettings, report: &Stabilit
         return;
     };
     for r in &report.speeds {
-        let z = crate::calm_steps::least_damping_ratio(r);
+        let z = crate::stability::least_damping_ratio(r);
         if let Err(e) = cache.put(&rotor, &films, r.speed_hz, Some(z)) {
             eprintln!("warning: linear analyses not kept for reuse: {e}");
             return;
@@ -399,12 +397,67 @@ fn write_csv(preds: &[Prediction], path: &Path) -> Result<(), String> {
             note.replace('"', "'")
         );
     }
-    std::fs::write(path, s).map_err(|e| format!("{}: {e}", path.display()))
+    crate::output::write_whole(path, s.as_bytes())
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A sweep's prediction fills the cache under the keys its run-ups look up (the same model
+    /// parameters from a study point's flags either way), and a plan from the cache is the plan
+    /// without it, bit for bit; the speeds the prediction did not analyse are added.
+    #[test]
+    fn a_plan_reuses_the_predictions_analyses_and_is_unchanged_by_them() {
+        let mut args = std::collections::BTreeMap::new();
+        for (k, v) in [
+            ("preset", "path1"),
+            ("clearance", "20"),
+            ("dh", "40"),
+            ("c", "1000"),
+            ("d", "500"),
+            ("rotor.disturbance_seed", "3"),
+            ("stop", "0.3"),
+        ] {
+            args.insert(k.to_string(), v.to_string());
+        }
+        let spec = crate::sweep::RunSpec {
+            index: 0,
+            name: "point".into(),
+            args: args.clone(),
+            grids: vec![],
+        };
+        let runup = crate::runup_cli::check_argv(&crate::sweep::runup_args(&args)).unwrap();
+        let dir = std::env::temp_dir().join(format!("airring-calm-cache-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        let cache = crate::linear_cache::LinearCache::open_for_build(&dir, "test").unwrap();
+        let entries = || std::fs::read_dir(&dir).unwrap().count();
+        let (p, _) = predict_point(&spec, &[100.0, 200.0], DEFAULT_MESH, Some(&cache));
+        assert!(p.error.is_none(), "{:?}", p.error);
+        assert_eq!(entries(), 2);
+        // 0.3 s of the ramp reaches 200 Hz: 50, 100, 150 and 200 Hz; two found, two analysed.
+        let cached = crate::calm_steps::plan(&runup, Some(&cache));
+        assert_eq!(entries(), 4);
+        let fresh = crate::calm_steps::plan(&runup, None);
+        assert_eq!(fresh.least_damping.len(), 4);
+        let bits = |p: &crate::calm_steps::CalmPlan| -> Vec<(u64, Option<u64>)> {
+            p.least_damping
+                .iter()
+                .map(|(f, z)| (f.to_bits(), z.map(f64::to_bits)))
+                .collect()
+        };
+        assert_eq!(bits(&cached), bits(&fresh));
+        assert_eq!(cached.windows_s, fresh.windows_s);
+        assert!(!fresh.windows_s.is_empty(), "{fresh:?}");
+        // A plan from the full cache: the same values, no new entries.
+        assert_eq!(
+            bits(&crate::calm_steps::plan(&runup, Some(&cache))),
+            bits(&fresh)
+        );
+        assert_eq!(entries(), 4);
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
     use crate::sweep::RunSpec;
     use std::collections::BTreeMap;
 

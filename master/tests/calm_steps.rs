@@ -46,8 +46,7 @@ fn path_1_is_calm_until_its_least_damped_mode_falls_to_two_percent() {
     let dz_per_hz = (z1 - z0) / (f1 - f0);
     assert!(z_end - CALM_DAMPING_RATIO <= -dz_per_hz * 0.7, "{z_end}");
     // The linear threshold of instability (full mesh, docs/stability.md: 472.9 Hz) lies more than
-    // 40 Hz (60 ms) beyond the window: 49 Hz at the threshold 0.02 (124 Hz at 0.05, the threshold
-    // until 2026-12-05).
+    // 40 Hz (60 ms) beyond the window: 49 Hz at the threshold 0.02 (124 Hz at 0.05).
     let stab = master::stability::analyse(&s, &[400.0, 450.0, 500.0]).unwrap();
     let threshold = stab.threshold.expect("path 1 is unstable").speed_hz;
     assert!(
@@ -72,7 +71,7 @@ fn a_design_stable_throughout_is_calm_to_the_end() {
 
 #[test]
 fn a_journal_riding_on_its_ring_closes_the_calm_window_at_once() {
-    // dH = 0: the run-up whirls on its rings from ~7 Hz (docs/sweeps.md), but the linear model
+    // dH = 0: the run-up whirls on its rings from ~7 Hz (docs/results-section4.md), but the linear model
     // finds equilibria damped by 2 % or more up to 120 Hz (the window 0.076-0.160 s at either
     // d); the run closes that window at its first rejected step.
     for (d, plan_end_s) in [("50", 0.160), ("500", 0.161)] {

@@ -1,6 +1,6 @@
 //! A negative number given as its own argument ("--d -1") reaches the command's own check, which
 //! names the flag and its unit, instead of the argument parser's "unexpected argument '-1'"
-//! (every subcommand with numeric flags; until 2026-12-06 only `runup`).
+//! (every subcommand with numeric flags, not only `runup`).
 
 mod common;
 

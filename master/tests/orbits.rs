@@ -88,7 +88,7 @@ fn the_stable_orbit_has_the_settled_whirls_eccentricities() {
 
 /// Above the linear threshold the equilibrium is unstable, and nothing found there may call it
 /// stable. A settle too short to hold five periods of the threshold's whirl in its last tenth is
-/// refused before any simulation: at 0.05 s (taken until 2026-12-06) path 1 at 800 Hz looked
+/// refused before any simulation: at a settle of 0.05 s path 1 at 800 Hz looked
 /// "decaying", its start-up transient dying out before the whirl had grown, and only the linear
 /// analysis' verdict turned that into "not settled". With the shortest settle taken, 2 Hz above
 /// the threshold, where the whirl grows slowest, the motion is not called stable either.

@@ -181,9 +181,8 @@ fn smoke_study_runs_resumes_and_shards_merge() {
     let (ok, err) = airring(&["sweep", "studies/smoke.toml", "--out", full_s]);
     assert!(ok, "{err}");
     assert!(err.contains("3 already completed, 1 to run"), "{err}");
-    // So does one made with another film-mesh rule (session 31's 16 x 3 uniform up to bearing
-    // number 20, recorded without a grading; until session 31 the rule was no part of the
-    // recorded defaults, and such runs were kept).
+    // So does one made with another film-mesh rule (16 x 3 uniform up to bearing number 20,
+    // recorded without a grading, as an older airring wrote it).
     let mut meta: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&meta_path).unwrap()).unwrap();
     let g = master::runup::GRADED_MESH_GRADING;

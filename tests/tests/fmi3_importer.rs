@@ -179,7 +179,7 @@ fn a_serialized_state_continues_bit_for_bit_in_another_instance() {
 }
 
 /// The rotor twin refuses a start time other than 0 in fmi3EnterInitializationMode, which
-/// carries it in FMI 3.0 (until 2026-12-06 only in fmi3ExitInitializationMode), naming it.
+/// carries it in FMI 3.0 (not only in fmi3ExitInitializationMode), naming it.
 #[test]
 fn the_rotor_twin_refuses_a_late_start_where_it_is_given() {
     let fmu = load3("rotor");

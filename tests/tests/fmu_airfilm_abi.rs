@@ -182,7 +182,7 @@ fn exit_init_fails(set: impl FnOnce(&Slave), reason: &str) {
 #[test]
 fn non_physical_parameters_are_refused_with_a_reason() {
     exit_init_fails(|s| s.set_real(&[vr::C], &[0.0]).unwrap(), "C");
-    // In the FMU's units, as a user of the FMU alone reads them (until 2026-12-06 bare SI:
+    // In the FMU's units, as a user of the FMU alone reads them (not bare SI:
     // "C = -0.000001: must be > 0").
     exit_init_fails(
         |s| s.set_real(&[vr::C], &[-1e-6]).unwrap(),

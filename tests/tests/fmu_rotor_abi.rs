@@ -88,7 +88,7 @@ fn bad_parameters_and_inputs_are_refused_with_a_reason() {
         (vr::M, -0.1, "m"),
         (vr::J_P, 0.0, "J"),
         (vr::C_C, -5.0, "c"),
-        // In the FMU's units (until 2026-12-06 bare SI: "c_C = -5000: must be >= 0").
+        // In the FMU's units, not bare SI ("c_C = -5000: must be >= 0").
         (vr::C_C, -5000.0, "c_C = -5000 N/m (-5 N/mm): must be >= 0"),
         (vr::T_RAMP, 0.0, "t_ramp"),
     ] {
@@ -115,7 +115,7 @@ fn bad_parameters_and_inputs_are_refused_with_a_reason() {
 }
 
 /// The rotor starts at t = 0 only. Another start time is refused at the call that gives it,
-/// fmi2SetupExperiment (until 2026-12-06 only when initialization ended), naming it; the
+/// fmi2SetupExperiment (not only when initialization ends), naming it; the
 /// instance then still takes a start at 0 and runs.
 #[test]
 fn a_start_time_other_than_zero_is_refused_where_it_is_given() {

@@ -4,13 +4,19 @@
 //!   (`--glibc 2.17`: linked by cargo-zigbuild against that glibc, for older Linux)
 //! - `descriptions`    regenerate modelDescriptions/*.xml from the variable tables (`--check`: compare only)
 //! - `test`            everything CI runs: fmt, clippy, docs, fmus, descriptions --check, cargo test, pytest
+//!   (its prerequisites checked first, installed where it may: prereq.rs)
+//! - `test --quick`    the edit loop's tier: fmt, clippy, the libraries' and binaries' unit tests
+//! - `cli-reference [--check]`  docs/reference/cli.md from the binary's help (docs.rs)
+//! - `docs-check`      the CLI reference is current, doc links resolve, no change log in docs/
 //! - `runup [ARGS]`    build the FMUs and the master, then `airring runup ARGS` (default: the path-1 run-up)
 //! - `bench`           the benchmarks of the hot loops (medians), then the run-up benchmark
 //! - `bench runup [--preset P] [--stop S] [--runs N] [--load] [--fmu-dir D]`: the whole run-up,
 //!   medians of wall time, macro steps, time in each FMU and the master's share (`bench.rs`)
 
 mod bench;
+mod docs;
 mod pack;
+mod prereq;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
@@ -73,7 +79,8 @@ fn venv_python() -> Result<PathBuf, String> {
     Ok(py)
 }
 
-fn test() -> Result<(), String> {
+fn test(quick: bool) -> Result<(), String> {
+    prereq::ensure(!quick)?;
     run(
         "format check",
         cargo().args(["fmt", "--all", "--", "--check"]),
@@ -89,6 +96,14 @@ fn test() -> Result<(), String> {
             "warnings",
         ]),
     )?;
+    if quick {
+        // Unit tests only: the integration tests (tests/ folders) run co-simulations, FMPy and
+        // packed FMUs.
+        return run(
+            "cargo test (unit)",
+            cargo().args(["test", "--workspace", "--lib", "--bins", "--no-fail-fast"]),
+        );
+    }
     run(
         "clippy (FMU exports)",
         cargo()
@@ -114,6 +129,7 @@ fn test() -> Result<(), String> {
     )?;
     pack::fmus(None)?;
     pack::descriptions(true)?;
+    docs::check()?;
     run("cargo test", cargo().args(["test", "--workspace"]))?;
     let py = venv_python()?;
     run(
@@ -150,8 +166,14 @@ fn main() -> ExitCode {
             Some(other) => Err(format!("fmus: unknown argument '{other}'")),
         },
         Some("descriptions") => pack::descriptions(args.iter().any(|a| a == "--check")),
-        Some("test") => test(),
+        Some("test") => match args.get(1).map(String::as_str) {
+            None => test(false),
+            Some("--quick") => test(true),
+            Some(other) => Err(format!("test: unknown argument '{other}' (test [--quick])")),
+        },
         Some("runup") => runup(&args[1..]),
+        Some("cli-reference") => docs::cli_reference(args.iter().any(|a| a == "--check")),
+        Some("docs-check") => docs::check(),
         Some("bench") => match args.get(1).map(String::as_str) {
             Some("runup") => {
                 bench::Options::parse(&args[2..]).and_then(|o| bench::runup(&o))
@@ -162,7 +184,7 @@ fn main() -> ExitCode {
             Some(other) => Err(format!("bench: unknown argument '{other}' (bench [runup ...])")),
         },
         _ => Err(
-            "usage: cargo xtask fmus [--glibc V] | descriptions [--check] | test | runup [ARGS] | bench [runup [--preset P] [--stop S] [--runs N] [--load] [--fmu-dir D]]".into(),
+            "usage: cargo xtask fmus [--glibc V] | descriptions [--check] | test [--quick] | cli-reference [--check] | docs-check | runup [ARGS] | bench [runup [--preset P] [--stop S] [--runs N] [--load] [--fmu-dir D]]".into(),
         ),
     };
     match result {

@@ -36,7 +36,7 @@ pub fn series_from_csv(text: &str, clearance_m: [f64; 2]) -> Result<RunSeries, S
             .position(|h| h == name)
             .ok_or_else(|| format!("column '{name}' is missing"))?;
     }
-    // The films' own eccentricities, if recorded (run-ups since session 8; older folders: none).
+    // The films' own eccentricities, if recorded (an older airring's folders have none).
     let eps_idx: Option<[usize; 2]> = ["film_C.eps", "film_T.eps"]
         .map(|name| header.iter().position(|h| *h == name))
         .into_iter()

@@ -181,7 +181,7 @@ pub fn interp(xs: &[f64], ys: &[f64], x: f64) -> f64 {
 
 /// The spin angle per sample and its cosine and sine, computed once per series: the onset's and
 /// the whirl's windowed fits overlap (a window of many samples every hop), and evaluating cos and
-/// sin per sample and window was a quarter of a run-up's analysis (2026-12-06: ~30 ms of path 1's
+/// sin per sample and window was a quarter of a run-up's analysis (~30 ms of path 1's
 /// ~135 ms after the co-simulation). The same `cos` and `sin` of the same angles, so the fits are
 /// bit-identical.
 #[derive(Debug, Clone)]

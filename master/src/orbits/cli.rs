@@ -7,7 +7,7 @@ use std::path::PathBuf;
 pub struct OrbitsArgs {
     /// The rotor and its bearings, as for `airring runup`.
     #[command(flatten)]
-    pub bearing: crate::design::DesignArgs,
+    pub bearing: crate::runup::DesignArgs,
     /// Constant speeds from:to:step [Hz], or one speed; each is simulated until its whirl settles and the
     /// orbit is shot from there.
     #[arg(long)]
@@ -92,7 +92,17 @@ fn remove_stale(earlier: &[(PathBuf, std::time::SystemTime)]) {
 }
 
 pub fn run_cli(args: &OrbitsArgs, fmu_dir: PathBuf) -> Result<(), String> {
+    // Every flag is checked before any work, as `runup` does (a NaN clearance was found only
+    // after a second of settling, naming a generated system file left in --out).
     let settings = args.bearing.settings()?;
+    settings.validate()?;
+    if !(args.settle.is_finite() && args.settle > 0.0) {
+        return Err(format!(
+            "--settle {} s: must be a positive, finite time",
+            crate::runup::fmt_number(args.settle)
+        ));
+    }
+    let speeds_hz = crate::stability::parse_speeds(&args.speeds)?;
     let earlier = check_out(&args.out, args.overwrite)?;
     // Read before hours of shooting, so that a wrong folder is refused at once.
     let runup = match &args.runup {
@@ -107,7 +117,6 @@ pub fn run_cli(args: &OrbitsArgs, fmu_dir: PathBuf) -> Result<(), String> {
         }
         None => None,
     };
-    let speeds_hz = crate::stability::parse_speeds(&args.speeds)?;
     let req = OrbitsRequest {
         settings,
         speeds_hz,

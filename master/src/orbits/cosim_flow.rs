@@ -74,9 +74,9 @@ pub fn measures_list(m: &OrbitMeasures) -> Vec<(String, f64)> {
 /// were measured at it.
 pub const ORBIT_MACRO_STEP_US: f64 = 20.0;
 
-/// Loosest air-film tolerances of the period map [rtol, atol in Pa]: a looser tolerance (the
-/// run-up default of sessions 22-27, 3e-3 / 300 Pa) is tightened to this, a tighter one kept;
-/// the run-up default is this again since session 28. The shooting's
+/// Loosest air-film tolerances of the period map [rtol, atol in Pa]: a looser tolerance (e.g.
+/// `--film-tolerance 3e-3,300`) is tightened to this, a tighter one kept; the run-up default is
+/// this one. The shooting's
 /// monodromy matrix comes from differences of perturbed flows, which the film's error must stay
 /// well below: at 3e-3 / 300 Pa path 2a's stable orbit at 500 Hz got real multipliers 1.062 and
 /// 0.941 where the trivial multiplier 1 belongs (master/tests/orbits.rs failed on it); at 1e-3 /
@@ -150,8 +150,7 @@ impl RotorFilmFlow {
         s.macro_step_us = ORBIT_MACRO_STEP_US;
         s.film_tolerance = orbit_film_tolerance(s.film_tolerance);
         let text = s.system_toml(&fmu_dir.display().to_string());
-        std::fs::write(system_file, &text)
-            .map_err(|e| format!("{}: {e}", system_file.display()))?;
+        crate::output::write_whole(system_file, text.as_bytes())?;
         let sys = cosim::system::System::load(system_file).map_err(|e| e.to_string())?;
         let built =
             cosim::setup::build(&sys, crate::run::stderr_logger()).map_err(|e| e.to_string())?;
@@ -570,8 +569,8 @@ impl ParamFlow for RotorFilmFlow {
 mod tests {
     use super::*;
 
-    /// The period map never runs the film looser than ORBIT_FILM_TOLERANCE: a looser one (the
-    /// run-up default of sessions 22-27) is tightened, the run-up default kept where it is no
+    /// The period map never runs the film looser than ORBIT_FILM_TOLERANCE: a looser one (3e-3 /
+    /// 300 Pa) is tightened, the run-up default kept where it is no
     /// looser, a tighter choice kept, each of rtol and atol on its own.
     #[test]
     fn orbit_film_tolerance_only_tightens() {

@@ -59,7 +59,7 @@ pub struct CellOrbits {
     #[serde(default)]
     pub above: f64,
     /// The run-up defaults it was computed with (`sweep::defaults_of`): a stored cell with other
-    /// ones, or none (before 2026-12-06), is computed again rather than mixed into the map.
+    /// ones, or none (an older airring), is computed again rather than mixed into the map.
     #[serde(default)]
     pub defaults: Option<serde_json::Value>,
     pub linear_threshold_hz: Option<f64>,
@@ -316,7 +316,8 @@ pub fn sweep_orbits(
         settings.push(s);
     }
     let cells_dir = opts.out.join("cells");
-    std::fs::create_dir_all(&cells_dir).map_err(|e| format!("{}: {e}", cells_dir.display()))?;
+    std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;
+    cosim::files::real_folder(&cells_dir).map_err(|e| format!("{}: {e}", cells_dir.display()))?;
     let next = AtomicUsize::new(0);
     let results: Mutex<Vec<Option<Result<CellOrbits, String>>>> =
         Mutex::new(vec![None; study.runs.len()]);
@@ -510,7 +511,7 @@ fn classify_cell(
         runup_class: None,
         wall_time_s: t0.elapsed().as_secs_f64(),
     };
-    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    cosim::files::real_folder(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let text = serde_json::to_string_pretty(&cell).map_err(|e| e.to_string())?;
     let path = dir.join("cell.json");
     cosim::files::write_whole(&path, text.as_bytes())

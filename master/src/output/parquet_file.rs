@@ -66,7 +66,7 @@ pub fn write(path: &Path, columns: &[(String, String)], rows: &[Vec<f64>]) -> Re
     // Written under a temporary name and renamed when whole: a full disk or a kill never leaves
     // a truncated file under the final name.
     let tmp = crate::output::temporary_name(path);
-    let file = std::fs::File::create(&tmp).map_err(|e| err(&e))?;
+    let file = cosim::files::create_replacing(&tmp).map_err(|e| err(&e))?;
     let result = write_rows(file, schema, props, rows);
     let result = result.and_then(|()| std::fs::rename(&tmp, path).map_err(|e| e.to_string()));
     if result.is_err() {

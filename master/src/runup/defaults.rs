@@ -44,8 +44,8 @@ pub const RECORDED: &[&str] = &[
 ];
 
 /// Default macro step and polynomial orders (see docs/convergence.md for the study behind them).
-/// 50 us with a second-order extrapolation of the rotor's inputs since 2026-12-03: against the
-/// previous default (20 us, first order) the same class in all 42 Section 4 cells and the three
+/// 50 us with a second-order extrapolation of the rotor's inputs: against 20 us with first order
+/// the same class in all 42 Section 4 cells and the three
 /// Section 3 presets, onsets within 0.4 % of 10 us references, eccentricities within 1.8 %, the
 /// Section 4 study in 0.48x of its wall time. `--macro-step 20 --extrapolation-order 1` remains
 /// for cross-checks. 100 us was not adopted (weakly unstable whirls become visible up to 6.7 %
@@ -64,13 +64,13 @@ pub const DEFAULT_CALM_MACRO_STEP_US: f64 = 100.0;
 /// [`DEFAULT_FILM_TOLERANCE`].
 ///
 /// Across the half width: the pressure is nearly a parabola, which one biquadratic element
-/// holds, except in an edge layer that narrows as lambda grows (session 28, 20 x 6 before; docs/
-/// convergence.md, "Film mesh across the width"): with [`DEFAULT_FILM_TOLERANCE`] path 1 in 0.60
+/// holds, except in an edge layer that narrows as lambda grows (docs/convergence.md, "Film mesh
+/// across the width"): against 20 x 6, with [`DEFAULT_FILM_TOLERANCE`] path 1 in 0.60
 /// and the Section 4 study in 0.56 of the time, the same class in all 42 cells, onsets within
 /// 0.17 % and eccentricities within 0.91 % of the paper mesh. C10/dH20/c1500/d50 (lambda 35) is
 /// 0.71 % off a reference at 10 us on a 40 x 12 mesh at 20 x 4, 1.03 % at 20 x 3.
 ///
-/// Along the lobe, 16 elements instead of the paper's 20 where lambda <= 20 (session 31; docs/
+/// Along the lobe, 16 elements instead of the paper's 20 where lambda <= 20 (docs/
 /// convergence.md, "Film mesh along the lobe"): against 20 x 3 the same class in all 42 Section
 /// 4 cells, onsets within 0.22 %, eccentricities within 1.6 %, and in the two cells whose slowly
 /// growing whirls the films' errors can seed early, nine disturbance seeds each within 0.052 %;
@@ -78,13 +78,13 @@ pub const DEFAULT_CALM_MACRO_STEP_US: f64 = 100.0;
 /// time.
 ///
 /// Where lambda <= 20, 10 elements along the lobe graded by [`GRADED_MESH_GRADING`] toward its
-/// trailing edge since session 32 (docs/convergence.md, "A graded film mesh"): the error of a
+/// trailing edge (docs/convergence.md, "A graded film mesh"): the error of a
 /// uniform mesh sits in the trailing edge's last column, and 10 graded elements (147 nodes per
 /// lobe) hold path 1's onset 0.021 % and its eccentricities 0.56 % from a 40 x 12 mesh, where
 /// 16 uniform ones were 0.032 % and 0.99 % off (C15/dH45/c1000/d50: 0.23 % and 0.57 %, 16 x 3
 /// 0.37 % and 1.63 %); path 1 in ~0.7 of the time.
 ///
-/// Two elements across the half width where lambda <= 10 since session 34 (docs/convergence.md,
+/// Two elements across the half width where lambda <= 10 (docs/convergence.md,
 /// "Two elements across the half width"): 105 nodes per lobe instead of 147 and a narrower band;
 /// at 6e-4 / 60 Pa path 1's onset 0.067 % and its eccentricities 0.57 % from a 40 x 12 mesh,
 /// paths 2a and 2b 0.24 % from their 10 us references, the Section 4 study the same class in all
@@ -161,7 +161,7 @@ pub const DEFAULT_OUTPUT_INTERVAL_US: f64 = 50.0;
 pub const ROTOR_MAX_STEP_US: f64 = 20.0;
 /// Default air-film tolerances of a run-up [rtol, atol in Pa]: 10x looser than the FMU's own
 /// defaults (Section 3 onsets within 1e-5, eccentricities within 0.2 %, 1.5x faster). 3e-3 /
-/// 300 Pa in session 22-27, on the paper's 20 x 6 mesh; with the coarser meshes of
+/// 300 Pa sufficed on the paper's 20 x 6 mesh; with the coarser meshes of
 /// [`film_mesh_for`] the film's accepted errors at 3e-3 seeded a slowly growing whirl early
 /// (C30/dH60/c1500/d500 at 20 x 3: onsets 3-6 % early in 3 of 9 disturbance seeds), at 1e-3 all
 /// nine onsets are within 0.1 % of the paper mesh's (docs/convergence.md, "Film mesh across
@@ -173,11 +173,11 @@ pub const DEFAULT_FILM_TOLERANCE: [f64; 2] = [1e-3, 100.0];
 /// refinement for the contact and let no journal cross the contact limit in the Section 4 study
 /// (docs/convergence.md).
 pub const DEFAULT_CONTACT: ContactSide = ContactSide::Rotor;
-/// Default macro-step control: [rtol, atol in N] of the extrapolated bearing forces. 0.3, 3 since
-/// 2026-12-04 (0.1, 1 before): where journals ride on their rings the control refines less (C15/
+/// Default macro-step control: [rtol, atol in N] of the extrapolated bearing forces. 0.3, 3
+/// rather than 0.1, 1: where journals ride on their rings the control refines less (C15/
 /// dH0/d50: macro sub-steps 1.15 M -> 0.51 M), with the same class in all 42 cells of the
 /// Section 4 study, onsets within 0.1 %, eccentricities within 0.92 %, the C30 fall within 0.44 um
-/// of a 0.3125 us reference (0.42 um before); path 1 and 2a never refine (docs/convergence.md).
+/// of a 0.3125 us reference (0.42 um at 0.1, 1); path 1 and 2a never refine (docs/convergence.md).
 pub const DEFAULT_STEP_CONTROL: [f64; 2] = [0.3, 3.0];
 /// Second order: the coupling's damping error shrinks like h^(order + 1), which matters for weak
 /// whirls. Path 2b's onset against a 10 us reference: +0.15 % at 50 us with order 2, -4.8 % at

@@ -5,8 +5,10 @@ use crate::fmu_params::{with_units, FmuParameter};
 use toml::Value;
 
 mod defaults;
+mod design_args;
 mod parse;
 pub use defaults::*;
+pub use design_args::DesignArgs;
 use parse::mesh_out_of_bounds;
 pub use parse::*;
 
@@ -457,12 +459,16 @@ impl RunupSettings {
     /// "0 -> 2000 Hz in 3 s" or the profile's points.
     pub fn describe_speed(&self) -> String {
         if self.speed_profile.is_empty() {
-            return format!("0 -> {} Hz in {} s", self.f_max_hz, self.t_ramp_s);
+            return format!(
+                "0 -> {} Hz in {} s",
+                fmt_number(self.f_max_hz),
+                fmt_number(self.t_ramp_s)
+            );
         }
         let pts: Vec<String> = self
             .speed_profile
             .iter()
-            .map(|(t, f)| format!("{f} Hz at {t} s"))
+            .map(|(t, f)| format!("{} Hz at {} s", fmt_number(*f), fmt_number(*t)))
             .collect();
         format!("speed profile {}", pts.join(", "))
     }

@@ -63,11 +63,7 @@ pub(super) fn mesh_out_of_bounds(phi: u64, z: u64) -> Option<&'static str> {
 /// A number as a message shows it: plainly where that is short, else with an exponent ("1e-300"
 /// rather than 300 digits, "2e16" rather than seventeen).
 pub fn fmt_number(x: f64) -> String {
-    if x == 0.0 || !x.is_finite() || (1e-4..1e9).contains(&x.abs()) {
-        format!("{x}")
-    } else {
-        format!("{x:e}")
-    }
+    cosim::number::short(x)
 }
 
 /// `--clearance` within the bore's own bounds (`bearing::Bore::validate`), in the flag's unit.

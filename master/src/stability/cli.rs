@@ -9,7 +9,7 @@ use std::path::PathBuf;
 pub struct StabilityArgs {
     /// The rotor and its bearings, as for `airring runup`.
     #[command(flatten)]
-    pub bearing: crate::design::DesignArgs,
+    pub bearing: crate::runup::DesignArgs,
     /// Speed grid from:to:step [Hz] (at most 1000 speeds), or one speed.
     #[arg(long, default_value = "100:2000:50")]
     pub speeds: String,
@@ -213,8 +213,7 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
     if let Some(dir) = &a.out {
         std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
         let path = dir.join("stability.json");
-        std::fs::write(&path, serde_json::to_string_pretty(&v).unwrap())
-            .map_err(|e| format!("{}: {e}", path.display()))?;
+        crate::output::write_whole(&path, serde_json::to_string_pretty(&v).unwrap().as_bytes())?;
         // Both films share the bore unless --set gives film_T another one: draw bearing C's.
         let lobes = super::params_of(&s)?.1[0].bore.clone();
         let mut figs = super::figures::save(&r, &lobes, dir).map_err(|e| e.to_string())?;

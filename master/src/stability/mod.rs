@@ -341,3 +341,21 @@ pub fn parse_speeds(spec: &str) -> Result<Vec<f64>, String> {
     let n = ((to - from) / step + 1e-9).floor() as usize;
     Ok((0..=n).map(|k| from + step * k as f64).collect())
 }
+
+/// Film mesh per lobe of the linear predictions (a study's `--linear` map, the run-ups' calm
+/// plans) where none is given: on the path-1 parameters it gives the paper mesh's threshold
+/// within 0.15 % and its growth exponents within 1 % at a tenth of the time (docs/stability.md).
+pub const LINEAR_PREDICTION_MESH: (u32, u32) = (8, 2);
+
+/// Least damping ratio over the oscillating modes; -1 for a static divergence (a positive real
+/// eigenvalue).
+pub fn least_damping_ratio(r: &SpeedResult) -> f64 {
+    if r.real_eigenvalues_per_s.iter().any(|&re| re > 0.0) {
+        return -1.0;
+    }
+    r.modes
+        .iter()
+        .map(|m| m.damping_ratio)
+        .fold(f64::INFINITY, f64::min)
+        .min(1.0)
+}

@@ -25,6 +25,7 @@
 //! file runs the run-ups.
 
 mod map;
+mod report_page;
 pub mod sensitivity;
 mod study;
 mod table;
@@ -123,9 +124,8 @@ pub fn defaults_of(args: &BTreeMap<String, String>) -> serde_json::Value {
         .unwrap_or_default();
     // The film mesh a run-up chooses by its bearing number is a default too, but no field of the
     // preset's settings: recorded as the rule's choice across its range (mesh and the films'
-    // tolerance with it), so that a run made with another rule (10 x 3 at 1e-3 / 100 Pa up to
-    // bearing number 10 before session 34, 20 x 3 before session 31, 20 x 6 before session 28)
-    // runs again.
+    // tolerance with it), so that a run made with another rule (e.g. 10 x 3 at 1e-3 / 100 Pa up
+    // to bearing number 10, 20 x 3 or 20 x 6 throughout) runs again.
     if let Some(map) = defaults.as_object_mut() {
         let rule: Vec<(u32, u32, f64, [f64; 2])> = FILM_MESH_RULE_SAMPLES
             .iter()
@@ -248,7 +248,8 @@ fn progress_fraction(line: &str) -> Option<f64> {
 
 fn start_run(spec: &RunSpec, opts: &SweepOptions) -> Result<Running, String> {
     let dir = opts.out.join("runs").join(&spec.name);
-    std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    // A linked run folder is refused: the run would write into (and replace) the link's target.
+    cosim::files::real_folder(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     let mut cmd = Command::new(&opts.exe);
     let resuming = is_resumable(&dir, &spec.args);
     let mut stale_summary = None;
@@ -264,11 +265,12 @@ fn start_run(spec: &RunSpec, opts: &SweepOptions) -> Result<Running, String> {
             "name": spec.name, "index": spec.index, "args": spec.args,
             "defaults": defaults_of(&spec.args),
         });
-        std::fs::write(
-            dir.join("sweep_run.json"),
-            serde_json::to_string_pretty(&meta).expect("json"),
-        )
-        .map_err(|e| format!("{}: {e}", dir.display()))?;
+        crate::output::write_whole(
+            &dir.join("sweep_run.json"),
+            serde_json::to_string_pretty(&meta)
+                .expect("json")
+                .as_bytes(),
+        )?;
         cmd.args(runup_args(&spec.args));
         // The sweep owns its run folders: a failed or stale run there is replaced.
         cmd.arg("--overwrite");
@@ -295,13 +297,16 @@ fn start_run(spec: &RunSpec, opts: &SweepOptions) -> Result<Running, String> {
     let log_path = dir.join("runup.log");
     let reader = std::thread::spawn(move || {
         // A resumed run appends to the log of its first attempt.
-        let mut log = std::fs::OpenOptions::new()
-            .create(true)
-            .write(true)
-            .append(resuming)
-            .truncate(!resuming)
-            .open(&log_path)
-            .ok();
+        // Never through a link: a resumed run appends to a file of its own, a new one replaces
+        // what stands there.
+        let mut log = if resuming {
+            cosim::files::open_existing_for_writing(&log_path)
+                .and_then(|mut f| std::io::Seek::seek(&mut f, std::io::SeekFrom::End(0)).map(|_| f))
+                .or_else(|_| cosim::files::create_replacing(&log_path))
+        } else {
+            cosim::files::create_replacing(&log_path)
+        }
+        .ok();
         for line in BufReader::new(stderr).lines().map_while(Result::ok) {
             if let Some(l) = log.as_mut() {
                 let _ = writeln!(l, "{line}");
@@ -392,9 +397,10 @@ pub fn sweep(study: &Study, study_text: &str, opts: &SweepOptions) -> Result<Swe
     if !opts.overwrite {
         refuse_replacing_other_runs(&opts.out, &mine)?;
     }
-    std::fs::create_dir_all(opts.out.join("runs"))
-        .map_err(|e| format!("{}: {e}", opts.out.display()))?;
-    let _ = std::fs::write(opts.out.join("study.toml"), study_text);
+    let runs = opts.out.join("runs");
+    std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;
+    cosim::files::real_folder(&runs).map_err(|e| format!("{}: {e}", runs.display()))?;
+    crate::output::write_whole(&opts.out.join("study.toml"), study_text.as_bytes())?;
     let mut report = SweepReport {
         total: mine.len(),
         ..Default::default()
@@ -550,7 +556,7 @@ pub fn sweep(study: &Study, study_text: &str, opts: &SweepOptions) -> Result<Swe
     report.maps.extend(
         plot_grid_maps(&records, study, &opts.out, &map).map_err(|e| format!("maps: {e}"))?,
     );
-    let page = crate::report::write_sweep_report(
+    let page = report_page::write_sweep_report(
         &opts.out,
         &study.name,
         &report.table,

@@ -27,12 +27,31 @@ pub fn variants(delta: f64) -> Vec<(&'static str, f64)> {
         .collect()
 }
 
-/// Classifies every completed run of `dir` with the default bounds and with each variant.
-pub fn sensitivity(dir: &Path, delta: f64) -> Result<Vec<RunSensitivity>, String> {
+/// Why a run of the sweep is not classified again ("NAME: reason"), or None if it is.
+fn left_out_reason(r: &super::table::RunRecord) -> Option<String> {
+    if r.status == "completed" {
+        return None;
+    }
+    let path = r.dir.join("summary.json");
+    let why = match std::fs::read_to_string(&path) {
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => "no summary.json".to_string(),
+        Err(e) => format!("summary.json unreadable ({e})"),
+        Ok(text) => match serde_json::from_str::<crate::summary::RunSummary>(&text) {
+            Err(e) => format!("summary.json unreadable ({e})"),
+            Ok(_) => format!("not completed (status {})", r.status),
+        },
+    };
+    Some(format!("{}: {why}", r.name))
+}
+
+/// Classifies every completed run of `dir` with the default bounds and with each variant; also
+/// returns the runs left out, each with its reason ("NAME: reason").
+pub fn sensitivity(dir: &Path, delta: f64) -> Result<(Vec<RunSensitivity>, Vec<String>), String> {
     if !(delta > 0.0 && delta < 1.0) {
         return Err(format!("--delta {delta}: must lie in (0, 1)"));
     }
     let records = collect(&[dir.to_path_buf()]);
+    let mut left_out: Vec<String> = records.iter().filter_map(left_out_reason).collect();
     let runs: Vec<_> = records.iter().filter(|r| r.status == "completed").collect();
     if runs.is_empty() {
         return Err(format!(
@@ -44,6 +63,10 @@ pub fn sensitivity(dir: &Path, delta: f64) -> Result<Vec<RunSensitivity>, String
     let mut out = Vec::with_capacity(runs.len());
     for r in runs {
         let Some(bores) = crate::run_folder::bores_of_run(&r.dir)? else {
+            left_out.push(format!(
+                "{}: its system.toml has no air films film_C and film_T to read the bores from",
+                r.name
+            ));
             continue;
         };
         let series = load_run(&r.dir, [bores[0].c_m, bores[1].c_m])?;
@@ -61,12 +84,17 @@ pub fn sensitivity(dir: &Path, delta: f64) -> Result<Vec<RunSensitivity>, String
             moved,
         });
     }
-    Ok(out)
+    Ok((out, left_out))
 }
 
 /// Writes `dir/sensitivity.csv` and returns it with a readable summary (per moved bound, the runs
 /// whose class changes).
-pub fn write(dir: &Path, delta: f64, runs: &[RunSensitivity]) -> Result<(PathBuf, String), String> {
+pub fn write(
+    dir: &Path,
+    delta: f64,
+    runs: &[RunSensitivity],
+    left_out: &[String],
+) -> Result<(PathBuf, String), String> {
     let vs = variants(delta);
     let mut csv = String::from("run,class");
     for (n, f) in &vs {
@@ -101,6 +129,12 @@ pub fn write(dir: &Path, delta: f64, runs: &[RunSensitivity]) -> Result<(PathBuf
             if changed.is_empty() { "" } else { ": " },
             changed.join(", ")
         );
+    }
+    if !left_out.is_empty() {
+        let _ = writeln!(text, "{} runs left out:", left_out.len());
+        for l in left_out {
+            let _ = writeln!(text, "  {l}");
+        }
     }
     Ok((path, text))
 }

@@ -133,12 +133,13 @@ pub fn write_table(records: &[RunRecord], path: &Path) -> Result<(), String> {
             r.wall_time_s.map_or(String::new(), |w| format!("{w:.1}"))
         ));
     }
-    std::fs::write(path, s).map_err(|e| format!("{}: {e}", path.display()))
+    crate::output::write_whole(path, s.as_bytes())
 }
 
 /// `airring sweep-merge`: one table and one map from the run folders of several sweep outputs
 /// (shards), written into `out`.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(PathBuf, Vec<PathBuf>, usize), String> {
+    check_same_study(dirs)?;
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let records = collect(dirs);
     if records.is_empty() {
@@ -163,8 +164,106 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<(PathBuf, Vec<PathBuf>, usi
                 .map_err(|e| format!("maps: {e}"))?,
         );
     }
-    if let Err(e) = crate::report::write_sweep_report(out, &title, &table, &maps, &records) {
+    if let Err(e) = super::report_page::write_sweep_report(out, &title, &table, &maps, &records) {
         eprintln!("warning: report.html: {e}");
     }
     Ok((table, maps, records.len()))
+}
+
+/// The dotted keys under which `a` and `b` differ (a key missing on one side differs).
+fn differing_keys(a: &serde_json::Value, b: &serde_json::Value, at: &str, out: &mut Vec<String>) {
+    use serde_json::Value;
+    match (a, b) {
+        (Value::Object(x), Value::Object(y)) => {
+            let keys: std::collections::BTreeSet<&String> = x.keys().chain(y.keys()).collect();
+            for k in keys {
+                let here = if at.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{at}.{k}")
+                };
+                match (x.get(k), y.get(k)) {
+                    (Some(p), Some(q)) => differing_keys(p, q, &here, out),
+                    _ => out.push(here),
+                }
+            }
+        }
+        _ if a != b => out.push(if at.is_empty() {
+            "(the whole file)".into()
+        } else {
+            at.into()
+        }),
+        _ => {}
+    }
+}
+
+/// Shards of one study only: every folder's study.toml says the same (name, fixed keys, grids),
+/// and a run name found in several folders has the same flags and defaults (sweep_run.json) in
+/// each. Folders of different studies would be merged into one table and map without a word.
+fn check_same_study(dirs: &[PathBuf]) -> Result<(), String> {
+    let study_of = |d: &PathBuf| -> Result<Option<serde_json::Value>, String> {
+        let p = d.join("study.toml");
+        match std::fs::read_to_string(&p) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(format!("{}: {e}", p.display())),
+            Ok(text) => text
+                .parse::<toml::Table>()
+                .map_err(|e| format!("{}: {}", p.display(), e.message()))
+                .and_then(|t| serde_json::to_value(t).map_err(|e| e.to_string()))
+                .map(Some),
+        }
+    };
+    let mut first: Option<(&PathBuf, serde_json::Value)> = None;
+    for d in dirs {
+        let Some(s) = study_of(d)? else { continue };
+        match &first {
+            None => first = Some((d, s)),
+            Some((d0, s0)) => {
+                let mut keys = vec![];
+                differing_keys(s0, &s, "", &mut keys);
+                if !keys.is_empty() {
+                    return Err(format!(
+                        "{} and {} hold sweeps of different studies (their study.toml differ in \
+                         {}): sweep-merge joins the shards of one study only",
+                        d0.display(),
+                        d.display(),
+                        keys.join(", ")
+                    ));
+                }
+            }
+        }
+    }
+    // The runs themselves: the same name must mean the same run-up.
+    let mut seen: HashMap<String, (PathBuf, serde_json::Value)> = HashMap::new();
+    for d in dirs {
+        let Ok(entries) = std::fs::read_dir(d.join("runs")) else {
+            continue;
+        };
+        for e in entries.flatten() {
+            let Some(meta) = read_json(&e.path().join("sweep_run.json")) else {
+                continue;
+            };
+            let name = e.file_name().to_string_lossy().into_owned();
+            let what = serde_json::json!({ "args": meta["args"], "defaults": meta["defaults"] });
+            match seen.get(&name) {
+                None => {
+                    seen.insert(name, (d.clone(), what));
+                }
+                Some((d0, w0)) => {
+                    let mut keys = vec![];
+                    differing_keys(w0, &what, "", &mut keys);
+                    if !keys.is_empty() {
+                        return Err(format!(
+                            "run {name} is in {} and in {} with different settings ({}): these \
+                             are not shards of one study",
+                            d0.display(),
+                            d.display(),
+                            keys.join(", ")
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    Ok(())
 }
