@@ -654,7 +654,7 @@ fn a_run_refuses_an_output_interval_between_macro_steps() {
     assert!(!ok, "{err}");
     assert!(
         err.contains(&format!(
-            "{}:131: output.interval: 0.00007 s is not a whole number of macro steps (0.00005 s)",
+            "{}:131: output.interval: 7e-5 s is not a whole number of macro steps (5e-5 s)",
             sys.display()
         )),
         "{err}"
