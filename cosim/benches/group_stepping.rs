@@ -63,7 +63,7 @@ enum Mode {
 fn run(mode: Mode, steps: usize, n_work: u64) -> (f64, Option<Stepping>) {
     let pool = StepPool::new(2);
     let mut members = [Busy(n_work), Busy(n_work)];
-    let mut choice = SteppingChoice::new();
+    let mut choice = SteppingChoice::default();
     let mut walls = Vec::with_capacity(steps);
     for k in 0..steps {
         let way = match mode {

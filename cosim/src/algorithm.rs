@@ -21,7 +21,7 @@
 
 use crate::error::{RestoreError, StepError};
 use crate::parallel::StepPool;
-use crate::parallel_choice::{Stepping, SteppingChoice, SteppingStats};
+use crate::parallel_choice::{ChoiceTuning, Stepping, SteppingChoice, SteppingStats};
 use crate::polynomial::{taylor_derivatives, taylor_value};
 use crate::slave::Fmu;
 use crate::step_control::{
@@ -56,6 +56,8 @@ pub struct AlgorithmConfig {
     pub parallel: bool,
     /// Macro-step control by the coupling error; None: fixed macro step (Discard still halves).
     pub control: Option<StepControl>,
+    /// The tuning of the measured choice between parallel and serial group steps.
+    pub parallel_tuning: ChoiceTuning,
 }
 
 /// Something the algorithm did that a watcher may want to report (the library prints nothing).
@@ -199,7 +201,7 @@ impl CoSim {
             control_stats: ControlStats::default(),
             predicted: vec![],
             pool,
-            stepping: SteppingChoice::new(),
+            stepping: SteppingChoice::new(config.parallel_tuning),
             stepped: vec![],
             save_every: SAVE_EVERY,
             save_burst: 0,

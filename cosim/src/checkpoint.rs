@@ -394,6 +394,11 @@ mod tests {
         std::fs::write(file("film_T"), &c).unwrap();
         let e = read(&dir, &names).unwrap_err();
         assert!(e.contains("film_C") && e.contains("damaged"), "{e}");
+        // Same length, other bytes: said so (not "4 bytes, expected 4").
+        assert!(
+            e.contains("4 bytes as expected, but their checksum differs"),
+            "{e}"
+        );
         // Truncated.
         std::fs::write(file("film_C"), &c[..2]).unwrap();
         let e = read(&dir, &names).unwrap_err();

@@ -63,7 +63,7 @@ pub enum RunError {
     /// A setting of the run itself (`RunConfig`) is unusable.
     Config(String),
     /// An observer refused the run before it started (its reason).
-    Observer(String),
+    Observer(ObserverError),
 }
 
 impl std::fmt::Display for RunError {
@@ -71,9 +71,8 @@ impl std::fmt::Display for RunError {
         match self {
             RunError::Io { path, source } => write!(f, "{}: {source}", path.display()),
             RunError::System(e) => write!(f, "{e}"),
-            RunError::Checkpoint(e) | RunError::Config(e) | RunError::Observer(e) => {
-                write!(f, "{e}")
-            }
+            RunError::Checkpoint(e) | RunError::Config(e) => write!(f, "{e}"),
+            RunError::Observer(e) => write!(f, "{e}"),
         }
     }
 }
@@ -83,5 +82,60 @@ impl std::error::Error for RunError {}
 impl From<crate::system::SystemError> for RunError {
     fn from(e: crate::system::SystemError) -> Self {
         RunError::System(e)
+    }
+}
+
+/// Why an observer refused a run or ended it.
+#[derive(Debug)]
+pub enum ObserverError {
+    /// A file the observer writes or reads could not be (the time series, the summary, ...).
+    Io {
+        path: std::path::PathBuf,
+        source: std::io::Error,
+    },
+    /// The observer refuses the run as it is set up (too large for memory, a folder in use).
+    Refused(String),
+    /// Anything else, in the observer's words.
+    Other(String),
+}
+
+impl ObserverError {
+    /// An I/O error on `path`.
+    pub fn io(path: impl Into<std::path::PathBuf>, source: std::io::Error) -> Self {
+        ObserverError::Io {
+            path: path.into(),
+            source,
+        }
+    }
+}
+
+impl std::fmt::Display for ObserverError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            ObserverError::Io { path, source } => write!(f, "{}: {source}", path.display()),
+            ObserverError::Refused(e) | ObserverError::Other(e) => write!(f, "{e}"),
+        }
+    }
+}
+
+impl std::error::Error for ObserverError {
+    fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
+        match self {
+            ObserverError::Io { source, .. } => Some(source),
+            _ => None,
+        }
+    }
+}
+
+impl From<String> for ObserverError {
+    fn from(e: String) -> Self {
+        ObserverError::Other(e)
+    }
+}
+
+/// The run loop reports an observer's error as text (`RunReport::error`).
+impl From<ObserverError> for String {
+    fn from(e: ObserverError) -> Self {
+        e.to_string()
     }
 }

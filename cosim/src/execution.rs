@@ -255,7 +255,7 @@ impl<'a> Execution<'a> {
         &self,
         resumed_from: Option<&MasterState>,
         observers: &mut [&mut dyn Observer],
-    ) -> Result<(), String> {
+    ) -> Result<(), crate::error::ObserverError> {
         let run_start = RunStart {
             columns: &self.built.recorded,
             resumed_from,
@@ -342,7 +342,7 @@ impl<'a> Execution<'a> {
         ];
         for o in observers.iter_mut() {
             if let Err(e) = o.finished(cosim, &report) {
-                report.error.get_or_insert(e);
+                report.error.get_or_insert(e.to_string());
             }
         }
         report

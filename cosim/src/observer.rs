@@ -5,6 +5,7 @@
 
 use crate::algorithm::{CoSim, Event};
 use crate::checkpoint::MasterState;
+pub use crate::error::ObserverError;
 use crate::report::RunReport;
 use crate::setup::Recorded;
 
@@ -22,22 +23,23 @@ pub struct RunStart<'a> {
     pub idle_workers: Option<crate::parallel::IdleWorkers>,
 }
 
-/// A watcher of a run. Errors are strings naming what failed; they end the run as failed.
+/// A watcher of a run. An error ([`ObserverError`]) ends the run as failed, its text in the
+/// report.
 pub trait Observer {
     /// Before the first macro step (also of a resumed run). Any observer may still refuse the
     /// run here: change nothing a refused run must leave as it was (do that in [`Self::begun`]).
-    fn started(&mut self, _run: &RunStart<'_>) -> Result<(), String> {
+    fn started(&mut self, _run: &RunStart<'_>) -> Result<(), ObserverError> {
         Ok(())
     }
 
     /// Every observer has accepted the start: the run goes ahead. Called in order after all
     /// [`Self::started`] calls succeeded; the place to replace a folder's old outputs.
-    fn begun(&mut self, _run: &RunStart<'_>) -> Result<(), String> {
+    fn begun(&mut self, _run: &RunStart<'_>) -> Result<(), ObserverError> {
         Ok(())
     }
 
     /// An output sample: the recorded variables at time `t_s`, in column order.
-    fn sample(&mut self, _t_s: f64, _values: &[f64]) -> Result<(), String> {
+    fn sample(&mut self, _t_s: f64, _values: &[f64]) -> Result<(), ObserverError> {
         Ok(())
     }
 
@@ -49,12 +51,12 @@ pub trait Observer {
 
     /// A checkpoint is being written: make everything observed so far durable, and record in
     /// `state` what a resume needs (the time-series writer records its byte count).
-    fn checkpoint(&mut self, _state: &mut MasterState) -> Result<(), String> {
+    fn checkpoint(&mut self, _state: &mut MasterState) -> Result<(), ObserverError> {
         Ok(())
     }
 
     /// The run has ended (completed, interrupted or failed); `report` says which.
-    fn finished(&mut self, _cosim: &CoSim, _report: &RunReport) -> Result<(), String> {
+    fn finished(&mut self, _cosim: &CoSim, _report: &RunReport) -> Result<(), ObserverError> {
         Ok(())
     }
 }

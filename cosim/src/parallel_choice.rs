@@ -19,44 +19,65 @@ pub enum Stepping {
     Serial,
 }
 
-/// Group steps per probe window, the first few of which are not timed (a parked worker's wake-up).
-const PROBE_STEPS: u32 = 40;
-const PROBE_WARMUP: u32 = 8;
-/// Group steps a choice is held before the next probe, at first and at most (doubled each time a
-/// probe confirms the choice).
-const HOLD_MIN: u64 = 2_000;
-const HOLD_MAX: u64 = 16_000;
-/// While parallel is held: once its steps have cost this many serial steps' worth of time beyond
-/// [`STALL_SLACK`] serial steps each (summed over the hold, a sum that never goes below zero), the
-/// hold ends at once (another process arrived: a stalled worker costs 10-20x per step). Ending
-/// it after 8 slower steps in a row fails on a busy machine, whose scheduling alternates stalled
-/// steps with fast ones (path 1 under one busy loop stepped 455 groups in parallel that way; its
-/// last parallel probe took 2.7 ms per step, serial 0.13 ms).
-const EXCESS_TO_REPROBE: f64 = 16.0;
-/// What a held parallel step may take before it counts towards that excess, in serial steps: on a
-/// quiet machine a step where a film refreshes its Newton matrices takes longer than the probe's
-/// mean, and clusters of them must not end a hold that pays (a stall under load is 10-20x).
-const STALL_SLACK: f64 = 2.0;
-/// Parallel must beat serial by this factor: on a tie, one thread leaves a core to others.
-const PARALLEL_MARGIN: f64 = 0.95;
-/// A parallel probe ends early, after this many steps beyond its first, once those have cost
-/// twice what serial steps would have: on a busy machine a parallel step can take 10x a serial
-/// one, and a whole window of them would cost more than the choice saves. The first step is left
-/// out: it wakes a worker that parked while the group stepped serially (a futex wake-up, 50-150
-/// us). Were it counted, with film steps this cheap (29 us serially on a 10 x 3 graded mesh) no
-/// parallel probe would survive its first two steps: a run that started serially would stay
-/// serial.
-const PROBE_ABORT_AFTER: u32 = 2;
-/// A parallel probe also ends at its first step when that took more than this many serial
-/// steps: a parked worker's wake-up costs 50-150 us on a quiet machine (2-6 serial steps of a
-/// film step of ~26 us), but beside a busy process the worker waits milliseconds for a core
-/// (path 1 beside one busy loop: ~3 ms per parallel step, over 100 serial steps), and so does
-/// each further step of the probe: waiting out three such steps cost ~1.3 % of such a run.
-const FIRST_STEP_STALL: f64 = 20.0;
+/// The tuning of the choice (defaults measured on a 2-core machine with the run-up's two air films;
+/// another system may want others). Part of `AlgorithmConfig`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChoiceTuning {
+    /// Group steps per probe window, the first few of which are not timed (a parked worker's wake-up).
+    pub probe_steps: u32,
+    pub probe_warmup: u32,
+    /// Group steps a choice is held before the next probe, at first and at most (doubled each time a
+    /// probe confirms the choice).
+    pub hold_min: u64,
+    pub hold_max: u64,
+    /// While parallel is held: once its steps have cost this many serial steps' worth of time beyond
+    /// `stall_slack` serial steps each (summed over the hold, a sum that never goes below zero), the
+    /// hold ends at once (another process arrived: a stalled worker costs 10-20x per step). Ending
+    /// it after 8 slower steps in a row fails on a busy machine, whose scheduling alternates stalled
+    /// steps with fast ones (path 1 under one busy loop stepped 455 groups in parallel that way; its
+    /// last parallel probe took 2.7 ms per step, serial 0.13 ms).
+    pub excess_to_reprobe: f64,
+    /// What a held parallel step may take before it counts towards that excess, in serial steps: on a
+    /// quiet machine a step where a film refreshes its Newton matrices takes longer than the probe's
+    /// mean, and clusters of them must not end a hold that pays (a stall under load is 10-20x).
+    pub stall_slack: f64,
+    /// Parallel must beat serial by this factor: on a tie, one thread leaves a core to others.
+    pub parallel_margin: f64,
+    /// A parallel probe ends early, after this many steps beyond its first, once those have cost
+    /// twice what serial steps would have: on a busy machine a parallel step can take 10x a serial
+    /// one, and a whole window of them would cost more than the choice saves. The first step is left
+    /// out: it wakes a worker that parked while the group stepped serially (a futex wake-up, 50-150
+    /// us). Were it counted, with film steps this cheap (29 us serially on a 10 x 3 graded mesh) no
+    /// parallel probe would survive its first two steps: a run that started serially would stay
+    /// serial.
+    pub probe_abort_after: u32,
+    /// A parallel probe also ends at its first step when that took more than this many serial
+    /// steps: a parked worker's wake-up costs 50-150 us on a quiet machine (2-6 serial steps of a
+    /// film step of ~26 us), but beside a busy process the worker waits milliseconds for a core
+    /// (path 1 beside one busy loop: ~3 ms per parallel step, over 100 serial steps), and so does
+    /// each further step of the probe: waiting out three such steps cost ~1.3 % of such a run.
+    pub first_step_stall: f64,
+}
+
+impl Default for ChoiceTuning {
+    fn default() -> Self {
+        ChoiceTuning {
+            probe_steps: 40,
+            probe_warmup: 8,
+            hold_min: 2_000,
+            hold_max: 16_000,
+            excess_to_reprobe: 16.0,
+            stall_slack: 2.0,
+            parallel_margin: 0.95,
+            probe_abort_after: 2,
+            first_step_stall: 20.0,
+        }
+    }
+}
 
 #[derive(Clone, Copy, Debug)]
 enum Phase {
-    /// Timing `mode` for `PROBE_STEPS`; `then` is the other mode still to probe (None: decide).
+    /// Timing `mode` for `probe_steps`; `then` is the other mode still to probe (None: decide).
     Probe {
         mode: Stepping,
         done: u32,
@@ -69,7 +90,7 @@ enum Phase {
     Hold {
         mode: Stepping,
         left: u64,
-        /// Parallel only: the time its steps cost beyond [`STALL_SLACK`] times the last serial
+        /// Parallel only: the time its steps cost beyond `stall_slack` times the last serial
         /// probe's mean, summed over the hold and floored at zero [us].
         excess_us: f64,
     },
@@ -91,6 +112,7 @@ pub struct SteppingStats {
 
 #[derive(Clone, Debug)]
 pub struct SteppingChoice {
+    tuning: ChoiceTuning,
     phase: Phase,
     hold: u64,
     means: [Option<f64>; 2],
@@ -99,7 +121,7 @@ pub struct SteppingChoice {
 
 impl Default for SteppingChoice {
     fn default() -> Self {
-        Self::new()
+        Self::new(ChoiceTuning::default())
     }
 }
 
@@ -118,8 +140,9 @@ fn other(m: Stepping) -> Stepping {
 }
 
 impl SteppingChoice {
-    pub fn new() -> Self {
+    pub fn new(tuning: ChoiceTuning) -> Self {
         SteppingChoice {
+            tuning,
             // Serial first: its mean bounds what the parallel probe may cost.
             phase: Phase::Probe {
                 mode: Stepping::Serial,
@@ -128,7 +151,7 @@ impl SteppingChoice {
                 spent: Duration::ZERO,
                 then: Some(Stepping::Parallel),
             },
-            hold: HOLD_MIN,
+            hold: tuning.hold_min,
             means: [None; 2],
             stats: SteppingStats::default(),
         }
@@ -160,7 +183,7 @@ impl SteppingChoice {
                 spent,
                 then,
             } => {
-                let timed = if done >= PROBE_WARMUP {
+                let timed = if done >= self.tuning.probe_warmup {
                     timed + wall
                 } else {
                     timed
@@ -169,11 +192,13 @@ impl SteppingChoice {
                 let serial_us = self.means[index(Stepping::Serial)];
                 let stalled_first = mode == Stepping::Parallel
                     && done == 0
-                    && serial_us.is_some_and(|s| wall.as_secs_f64() * 1e6 > FIRST_STEP_STALL * s);
+                    && serial_us.is_some_and(|s| {
+                        wall.as_secs_f64() * 1e6 > self.tuning.first_step_stall * s
+                    });
                 let done = done + 1;
                 let after_first = done - 1;
                 let losing = mode == Stepping::Parallel
-                    && after_first >= PROBE_ABORT_AFTER
+                    && after_first >= self.tuning.probe_abort_after
                     && serial_us.is_some_and(|s| {
                         spent.as_secs_f64() * 1e6 > 2.0 * s * f64::from(after_first)
                     });
@@ -184,7 +209,7 @@ impl SteppingChoice {
                     self.means[index(mode)] =
                         Some(spent.as_secs_f64() * 1e6 / f64::from(after_first));
                     self.decide()
-                } else if done < PROBE_STEPS {
+                } else if done < self.tuning.probe_steps {
                     Phase::Probe {
                         mode,
                         done,
@@ -193,7 +218,8 @@ impl SteppingChoice {
                         then,
                     }
                 } else {
-                    let mean_us = timed.as_secs_f64() * 1e6 / f64::from(PROBE_STEPS - PROBE_WARMUP);
+                    let mean_us = timed.as_secs_f64() * 1e6
+                        / f64::from(self.tuning.probe_steps - self.tuning.probe_warmup);
                     self.means[index(mode)] = Some(mean_us);
                     match then {
                         Some(next) => Phase::Probe {
@@ -215,9 +241,9 @@ impl SteppingChoice {
                 let serial_us =
                     self.means[index(Stepping::Serial)].filter(|_| mode == Stepping::Parallel);
                 let excess_us = serial_us.map_or(0.0, |s| {
-                    (excess_us + wall.as_secs_f64() * 1e6 - STALL_SLACK * s).max(0.0)
+                    (excess_us + wall.as_secs_f64() * 1e6 - self.tuning.stall_slack * s).max(0.0)
                 });
-                if serial_us.is_some_and(|s| excess_us > EXCESS_TO_REPROBE * s) {
+                if serial_us.is_some_and(|s| excess_us > self.tuning.excess_to_reprobe * s) {
                     Phase::Probe {
                         mode: Stepping::Serial,
                         done: 0,
@@ -249,14 +275,14 @@ impl SteppingChoice {
         self.stats.last_probe_parallel_us = p;
         self.stats.last_probe_serial_us = s;
         let choice = match (p, s) {
-            (Some(p), Some(s)) if p < PARALLEL_MARGIN * s => Stepping::Parallel,
+            (Some(p), Some(s)) if p < self.tuning.parallel_margin * s => Stepping::Parallel,
             _ => Stepping::Serial,
         };
         match self.stats.choice {
-            Some(prev) if prev == choice => self.hold = (2 * self.hold).min(HOLD_MAX),
+            Some(prev) if prev == choice => self.hold = (2 * self.hold).min(self.tuning.hold_max),
             Some(_) => {
                 self.stats.switches += 1;
-                self.hold = HOLD_MIN;
+                self.hold = self.tuning.hold_min;
             }
             None => {}
         }
@@ -283,7 +309,7 @@ mod tests {
 
     #[test]
     fn keeps_parallel_while_it_is_clearly_faster() {
-        let mut c = SteppingChoice::new();
+        let mut c = SteppingChoice::default();
         run(&mut c, 50_000, |_, m| match m {
             Stepping::Parallel => 100,
             Stepping::Serial => 160,
@@ -298,10 +324,10 @@ mod tests {
 
     #[test]
     fn falls_back_to_serial_on_a_tie_and_when_parallel_loses() {
-        let mut c = SteppingChoice::new();
+        let mut c = SteppingChoice::default();
         run(&mut c, 5_000, |_, _| 100);
         assert_eq!(c.stats().choice, Some(Stepping::Serial), "a tie");
-        let mut c = SteppingChoice::new();
+        let mut c = SteppingChoice::default();
         run(&mut c, 5_000, |_, m| match m {
             Stepping::Parallel => 1_700,
             Stepping::Serial => 200,
@@ -316,7 +342,7 @@ mod tests {
     /// steps after it pay, parallel is chosen, also where serial steps are cheap.
     #[test]
     fn a_parked_workers_wake_up_does_not_end_a_probe_that_pays() {
-        let mut c = SteppingChoice::new();
+        let mut c = SteppingChoice::default();
         let mut last = None;
         for _ in 0..10_000 {
             let m = c.next();
@@ -345,7 +371,7 @@ mod tests {
                 (Stepping::Parallel, true) => 1_000,
             }
         };
-        let mut c = SteppingChoice::new();
+        let mut c = SteppingChoice::default();
         let mut choices = vec![];
         for k in 0..120_000u64 {
             let m = c.next();
@@ -367,7 +393,7 @@ mod tests {
     /// a probe used to take three such steps.
     #[test]
     fn a_stalled_wake_up_ends_a_parallel_probe_at_once() {
-        let mut c = SteppingChoice::new();
+        let mut c = SteppingChoice::default();
         run(&mut c, 54_400, |_, m| match m {
             Stepping::Parallel => 3_000,
             Stepping::Serial => 26,
@@ -390,7 +416,7 @@ mod tests {
             Stepping::Parallel if k >= 10_000 && k.is_multiple_of(3) => 2_700,
             Stepping::Parallel => 100,
         };
-        let mut c = SteppingChoice::new();
+        let mut c = SteppingChoice::default();
         let mut parallel_after = 0;
         for k in 0..60_000u64 {
             let m = c.next();

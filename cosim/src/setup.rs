@@ -426,6 +426,7 @@ pub fn build(sys: &System, log: LogHandler) -> Result<Built, SystemError> {
         rollback: alg.rollback,
         parallel: alg.parallel,
         control,
+        parallel_tuning: Default::default(),
     };
     let guids = subs
         .iter()

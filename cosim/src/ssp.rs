@@ -7,7 +7,7 @@
 //! `DefaultExperiment` (with OSP's `FixedStepAlgorithm` annotation, which libcosim reads as its
 //! step: without a step it crashes) and an `org.airring.algorithm` annotation (kind, order,
 //! polynomial orders); other tools ignore the annotations. Connectors carry their type element
-//! (libcosim refuses untyped ones); all parameter sets share the name [`PARAMETER_SET`]. Components are written in `algorithm.order`, which is the order in
+//! (libcosim refuses untyped ones); all parameter sets share one name (`SspNames::parameter_set`). Components are written in `algorithm.order`, which is the order in
 //! which FMPy's SSP runner steps them (its algorithm is Jacobi-like whatever the order: see
 //! docs/fmu-guide.md).
 //!
@@ -26,10 +26,20 @@ use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
 
-/// The name of every component's parameter set: one name, because ecos applies the sets of one
-/// name (`init(parameter_set="airring")`); libcosim and FMPy apply each component's set whatever
-/// its name.
-pub const PARAMETER_SET: &str = "airring";
+/// The names an SSP archive carries of the tool that wrote it: the caller's, not the library's.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SspNames {
+    /// `generationTool` of the SSD (e.g. "airring 0.1.0"), and who exported it in the system's
+    /// description ("exported by {tool} from FILE").
+    pub tool: String,
+    /// The name of every component's parameter set: one name, because ecos applies the sets of
+    /// one name (`init(parameter_set=...)`); libcosim and FMPy apply each component's set
+    /// whatever its name.
+    pub parameter_set: String,
+    /// The `type` of the annotation that records the algorithm (macro step, orders), in the
+    /// tool's own namespace (e.g. "org.airring.algorithm").
+    pub algorithm_annotation: String,
+}
 
 /// One FMU instance as it goes into the SSD.
 struct Component {
@@ -84,8 +94,8 @@ fn port<'a>(
     Ok((inst, var))
 }
 
-/// Writes the SSP archive for the system file at `system_path`.
-pub fn export(system_path: &Path, out: &Path) -> Result<Exported, String> {
+/// Writes the SSP archive for the system file at `system_path`, under the caller's `names`.
+pub fn export(system_path: &Path, out: &Path, names: &SspNames) -> Result<Exported, String> {
     let sys = System::load(system_path).map_err(|e| e.to_string())?;
     let f = &sys.file;
     let macro_step_s = sys
@@ -225,6 +235,7 @@ pub fn export(system_path: &Path, out: &Path) -> Result<Exported, String> {
         macro_step_s,
         stop_time_s,
         &system_path.display().to_string(),
+        names,
     );
     write_archive(out, &ssd, &files)?;
     Ok(Exported {
@@ -243,6 +254,7 @@ fn ssd_xml(
     macro_step_s: f64,
     stop_time_s: f64,
     origin: &str,
+    names: &SspNames,
 ) -> String {
     let alg = &sys.file.algorithm;
     let mut s = String::new();
@@ -250,12 +262,13 @@ fn ssd_xml(
     s.push_str("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     let _ = writeln!(
         s,
-        "<ssd:SystemStructureDescription xmlns:ssc=\"http://ssp-standard.org/SSP1/SystemStructureCommon\" xmlns:ssd=\"http://ssp-standard.org/SSP1/SystemStructureDescription\" xmlns:ssv=\"http://ssp-standard.org/SSP1/SystemStructureParameterValues\" xmlns:osp=\"http://opensimulationplatform.com/SSP/OSPAnnotations\" version=\"1.0\" name=\"{n}\" generationTool=\"airring {}\">",
-        env!("CARGO_PKG_VERSION")
+        "<ssd:SystemStructureDescription xmlns:ssc=\"http://ssp-standard.org/SSP1/SystemStructureCommon\" xmlns:ssd=\"http://ssp-standard.org/SSP1/SystemStructureDescription\" xmlns:ssv=\"http://ssp-standard.org/SSP1/SystemStructureParameterValues\" xmlns:osp=\"http://opensimulationplatform.com/SSP/OSPAnnotations\" version=\"1.0\" name=\"{n}\" generationTool=\"{}\">",
+        xml_escape(&names.tool)
     );
     let _ = writeln!(
         s,
-        "  <ssd:System name=\"{n}\" description=\"exported by airring export-ssp from {}\">\n    <ssd:Elements>",
+        "  <ssd:System name=\"{n}\" description=\"exported by {} from {}\">\n    <ssd:Elements>",
+        xml_escape(&names.tool),
         xml_escape(origin)
     );
     for c in comps {
@@ -282,7 +295,8 @@ fn ssd_xml(
         if !c.parameters.is_empty() {
             let _ = writeln!(
                 s,
-                "        <ssd:ParameterBindings>\n          <ssd:ParameterBinding>\n            <ssd:ParameterValues>\n              <ssv:ParameterSet version=\"1.0\" name=\"{PARAMETER_SET}\">\n                <ssv:Parameters>"
+                "        <ssd:ParameterBindings>\n          <ssd:ParameterBinding>\n            <ssd:ParameterValues>\n              <ssv:ParameterSet version=\"1.0\" name=\"{}\">\n                <ssv:Parameters>",
+                xml_escape(&names.parameter_set)
             );
             for (p, v) in &c.parameters {
                 // Values in the FMU variable's own (SI) unit, so no unit attribute is needed.
@@ -323,7 +337,8 @@ fn ssd_xml(
         .join(" ");
     let _ = writeln!(
         s,
-        "    <ssd:Annotations>\n      <ssc:Annotation type=\"org.airring.algorithm\">\n        <Algorithm kind=\"{}\" order=\"{}\" macroStep=\"{macro_step_s:?}\" extrapolationOrder=\"{}\" interpolationOrder=\"{}\"/>\n      </ssc:Annotation>\n    </ssd:Annotations>",
+        "    <ssd:Annotations>\n      <ssc:Annotation type=\"{}\">\n        <Algorithm kind=\"{}\" order=\"{}\" macroStep=\"{macro_step_s:?}\" extrapolationOrder=\"{}\" interpolationOrder=\"{}\"/>\n      </ssc:Annotation>\n    </ssd:Annotations>",
+        xml_escape(&names.algorithm_annotation),
         xml_escape(alg.kind.get_ref()),
         xml_escape(&order),
         alg.extrapolation_order.get_ref(),

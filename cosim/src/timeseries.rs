@@ -243,7 +243,10 @@ impl CsvObserver {
 }
 
 impl crate::Observer for CsvObserver {
-    fn started(&mut self, run: &crate::observer::RunStart<'_>) -> Result<(), String> {
+    fn started(
+        &mut self,
+        run: &crate::observer::RunStart<'_>,
+    ) -> Result<(), crate::observer::ObserverError> {
         let w = match run.resumed_from {
             Some(m) => {
                 let check =
@@ -259,7 +262,7 @@ impl crate::Observer for CsvObserver {
                 TimeSeriesWriter::create(&self.path, &columns)
             }
         };
-        let writer = w.map_err(|e| format!("{}: {e}", self.path.display()))?;
+        let writer = w.map_err(|e| crate::observer::ObserverError::io(&self.path, e))?;
         let queue = Arc::new(RowQueue {
             pending: AtomicUsize::new(0),
             rows: Mutex::new(QueuedRows {
@@ -277,11 +280,11 @@ impl crate::Observer for CsvObserver {
         Ok(())
     }
 
-    fn sample(&mut self, t_s: f64, values: &[f64]) -> Result<(), String> {
+    fn sample(&mut self, t_s: f64, values: &[f64]) -> Result<(), crate::observer::ObserverError> {
         let queue = self.queue()?;
         let mut q = queue.lock()?;
         if let Some(e) = &q.error {
-            return Err(e.clone());
+            return Err(e.clone().into());
         }
         let mut row = q.spare.pop().unwrap_or_default();
         row.clear();
@@ -295,12 +298,19 @@ impl crate::Observer for CsvObserver {
         Ok(())
     }
 
-    fn checkpoint(&mut self, state: &mut crate::checkpoint::MasterState) -> Result<(), String> {
+    fn checkpoint(
+        &mut self,
+        state: &mut crate::checkpoint::MasterState,
+    ) -> Result<(), crate::observer::ObserverError> {
         let queue = self.queue()?;
         let mut q = queue.lock()?;
         queue.write_all(&mut q)?;
-        let path = self.path.display().to_string();
-        state.csv_check = Some(q.writer.check().map_err(|e| format!("{path}: {e}"))?);
+        let path = self.path.clone();
+        state.csv_check = Some(
+            q.writer
+                .check()
+                .map_err(|e| crate::observer::ObserverError::io(&path, e))?,
+        );
         state.csv_bytes = q.writer.bytes;
         Ok(())
     }
@@ -309,15 +319,16 @@ impl crate::Observer for CsvObserver {
         &mut self,
         _cosim: &crate::CoSim,
         _report: &crate::RunReport,
-    ) -> Result<(), String> {
+    ) -> Result<(), crate::observer::ObserverError> {
         self.withdraw_queue();
         let Some(queue) = &self.queue else {
             return Ok(());
         };
         let mut q = queue.lock()?;
         queue.write_all(&mut q)?;
-        let path = self.path.display().to_string();
-        q.writer.flush().map_err(|e| format!("{path}: {e}"))
+        q.writer
+            .flush()
+            .map_err(|e| crate::observer::ObserverError::io(&self.path, e))
     }
 }
 

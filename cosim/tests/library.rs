@@ -7,7 +7,7 @@ mod common;
 
 use common::{coupled, fmu_dir, run_text, tmp};
 use cosim::algorithm::Event;
-use cosim::observer::{Observer, RunStart};
+use cosim::observer::{Observer, ObserverError, RunStart};
 use cosim::timeseries::{self, CsvObserver};
 use cosim::{CoSim, RunConfig, RunReport};
 use std::path::{Path, PathBuf};
@@ -37,13 +37,13 @@ struct Recorder {
 }
 
 impl Observer for Recorder {
-    fn started(&mut self, run: &RunStart<'_>) -> Result<(), String> {
+    fn started(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
         let names: Vec<&str> = run.columns.iter().map(|c| c.name.as_str()).collect();
         self.calls
             .push(format!("started {names:?} to {} s", run.stop_time_s));
         Ok(())
     }
-    fn sample(&mut self, t_s: f64, values: &[f64]) -> Result<(), String> {
+    fn sample(&mut self, t_s: f64, values: &[f64]) -> Result<(), ObserverError> {
         self.samples.push((t_s, values.to_vec()));
         Ok(())
     }
@@ -53,7 +53,7 @@ impl Observer for Recorder {
     fn event(&mut self, event: &Event) {
         self.events.push(event.clone());
     }
-    fn finished(&mut self, cosim: &CoSim, report: &RunReport) -> Result<(), String> {
+    fn finished(&mut self, cosim: &CoSim, report: &RunReport) -> Result<(), ObserverError> {
         self.calls.push(format!(
             "finished at {} s, completed {}",
             cosim.time_s(),
@@ -68,9 +68,9 @@ impl Observer for Recorder {
 struct FailsAt(f64);
 
 impl Observer for FailsAt {
-    fn sample(&mut self, t_s: f64, _values: &[f64]) -> Result<(), String> {
+    fn sample(&mut self, t_s: f64, _values: &[f64]) -> Result<(), ObserverError> {
         if t_s >= self.0 {
-            Err(format!("disk full at {t_s} s"))
+            Err(format!("disk full at {t_s} s").into())
         } else {
             Ok(())
         }

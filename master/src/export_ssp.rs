@@ -15,6 +15,16 @@ pub struct ExportSspArgs {
     pub overwrite: bool,
 }
 
+/// AirRing's names in the archives it writes: the parameter set every component's values are
+/// under (`init(parameter_set="airring")` in ecos), the generation tool, the annotation type.
+pub fn ssp_names() -> cosim::ssp::SspNames {
+    cosim::ssp::SspNames {
+        tool: format!("airring {}", env!("CARGO_PKG_VERSION")),
+        parameter_set: "airring".into(),
+        algorithm_annotation: "org.airring.algorithm".into(),
+    }
+}
+
 /// The command.
 pub fn run_cli(a: &ExportSspArgs) -> Result<(), String> {
     if a.out.is_dir() {
@@ -30,7 +40,7 @@ pub fn run_cli(a: &ExportSspArgs) -> Result<(), String> {
             a.out.display()
         ));
     }
-    let r = cosim::ssp::export(&a.system, &a.out)?;
+    let r = cosim::ssp::export(&a.system, &a.out, &ssp_names())?;
     if let Ok(sys) = System::load(&a.system) {
         if sys.file.algorithm.step_control.is_some() {
             eprintln!(

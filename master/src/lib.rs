@@ -1,8 +1,12 @@
 //! The AirRing application as a library: the paper's run-ups on the generic `cosim` master,
 //! their analysis and plots, sweeps, the linear stability analysis, modal analysis, orbits.
-//! `main.rs` is only the command line.
+//! `main.rs` is only the command line. The run-up analysis, the figures and the periodic-orbit
+//! numerics are library crates of their own (`runup-analysis`, `figures`, `periodic-orbits`);
+//! `analysis` and `plot` name the first two here.
 
-pub mod analysis;
+pub use figures as plot;
+pub use runup_analysis as analysis;
+
 pub mod calm_steps;
 pub mod design;
 pub mod export_ssp;
@@ -13,7 +17,6 @@ pub mod orbit;
 pub mod orbits;
 pub mod out_folder;
 pub mod output;
-pub mod plot;
 pub mod report;
 pub mod run;
 pub mod run_folder;

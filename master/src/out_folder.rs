@@ -7,7 +7,7 @@
 //! has started.
 
 use crate::summary::RunSummary;
-use cosim::observer::{Observer, RunStart};
+use cosim::observer::{Observer, ObserverError, RunStart};
 use std::path::{Path, PathBuf};
 
 /// Files whose presence marks a folder as a run folder.
@@ -360,12 +360,12 @@ pub struct StartGuard {
 }
 
 impl Observer for StartGuard {
-    fn started(&mut self, run: &RunStart<'_>) -> Result<(), String> {
+    fn started(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
         let need = samples_bytes(run.stop_time_s, run.output_interval_s, run.columns.len());
         let limit = self.memory_limit_bytes.or_else(samples_memory_limit);
         if let Some(limit) = limit {
             if need > limit {
-                return Err(format!(
+                return Err(ObserverError::Refused(format!(
                     "the run would keep {:.1} GB of output samples in memory ({:.3e} rows of {} \
                      values), more than the {:.1} GB it may use: choose a longer output interval \
                      or a shorter stop time",
@@ -373,7 +373,7 @@ impl Observer for StartGuard {
                     run.stop_time_s / run.output_interval_s,
                     run.columns.len() + 1,
                     limit / 1e9
-                ));
+                )));
             }
         }
         Ok(())
@@ -381,7 +381,7 @@ impl Observer for StartGuard {
 
     /// Only once every observer has accepted the run (a refused resume leaves the folder byte
     /// for byte as it was): the old outputs go and the summary says "running".
-    fn begun(&mut self, run: &RunStart<'_>) -> Result<(), String> {
+    fn begun(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
         if run.resumed_from.is_none() {
             // The figures of the run this one replaces, as its summary lists them.
             let old_plots = RunSummary::read(&self.dir)
@@ -395,11 +395,13 @@ impl Observer for StartGuard {
                 // Only files: whatever else stands under such a name is not an old output.
                 let path = self.dir.join(&f);
                 if path.is_file() {
-                    std::fs::remove_file(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+                    std::fs::remove_file(&path).map_err(|e| ObserverError::io(&path, e))?;
                 }
             }
         }
-        RunSummary::running(self.settings.clone()).write(&self.dir)
+        RunSummary::running(self.settings.clone())
+            .write(&self.dir)
+            .map_err(ObserverError::Other)
     }
 }
 

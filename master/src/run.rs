@@ -7,7 +7,7 @@ use crate::plot::plot_runup;
 use crate::summary::{ClearancesUm, RunSummary};
 use bearing::Bore;
 use cosim::algorithm::Event;
-use cosim::observer::{Observer, RunStart};
+use cosim::observer::{Observer, ObserverError, RunStart};
 use cosim::timeseries::{self, CsvObserver};
 use cosim::{CoSim, Recorded, RunConfig};
 use fmi2::importer::{LogHandler, LogRecord};
@@ -131,7 +131,7 @@ impl Progress {
 }
 
 impl Observer for Progress {
-    fn started(&mut self, run: &RunStart<'_>) -> Result<(), String> {
+    fn started(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
         self.stop_time_s = run.stop_time_s;
         self.omega_column = run.columns.iter().position(|r| r.name.ends_with(".omega"));
         if let Some(m) = run.resumed_from {
@@ -141,7 +141,7 @@ impl Observer for Progress {
         Ok(())
     }
 
-    fn sample(&mut self, _t_s: f64, values: &[f64]) -> Result<(), String> {
+    fn sample(&mut self, _t_s: f64, values: &[f64]) -> Result<(), ObserverError> {
         self.omega_rad_s = self.omega_column.map(|k| values[k]);
         Ok(())
     }
@@ -165,7 +165,7 @@ impl Observer for Progress {
         }
     }
 
-    fn finished(&mut self, cosim: &CoSim, _report: &RunReport) -> Result<(), String> {
+    fn finished(&mut self, cosim: &CoSim, _report: &RunReport) -> Result<(), ObserverError> {
         self.show(cosim.time_s(), true);
         Ok(())
     }
@@ -180,16 +180,17 @@ struct Rows {
 }
 
 impl Observer for Rows {
-    fn started(&mut self, run: &RunStart<'_>) -> Result<(), String> {
+    fn started(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
         self.columns = run.columns.to_vec();
         if run.resumed_from.is_some() {
-            let (_, old) = timeseries::read(&self.csv_path).map_err(|e| e.to_string())?;
+            let (_, old) = timeseries::read(&self.csv_path)
+                .map_err(|e| ObserverError::Other(e.to_string()))?;
             self.rows = old;
         }
         Ok(())
     }
 
-    fn sample(&mut self, t_s: f64, values: &[f64]) -> Result<(), String> {
+    fn sample(&mut self, t_s: f64, values: &[f64]) -> Result<(), ObserverError> {
         let mut row = Vec::with_capacity(values.len() + 1);
         row.push(t_s);
         row.extend_from_slice(values);

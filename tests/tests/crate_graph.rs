@@ -140,3 +140,51 @@ fn the_application_sits_on_the_library_and_the_physics() {
         .push(("fmu-rotor".into(), Some(rotor_dir)));
     assert!(closure(&bad, "cosim").contains("bearing"));
 }
+
+/// The application's libraries each do one job: the periodic-orbit numerics know no rotor and
+/// no FMI, the run-up analysis knows the bearing description only, the figures draw what the
+/// analysis gives and know no FMU; none of them links the application.
+#[test]
+fn the_applications_libraries_know_only_what_their_job_needs() {
+    let g = graph();
+    let orbits = closure(&g, "periodic-orbits");
+    for forbidden in [
+        "bearing",
+        "fmi2",
+        "fmi3",
+        "cosim",
+        "fmu-rotor",
+        "fmu-airfilm",
+        "master",
+    ] {
+        assert!(
+            !orbits.contains(forbidden),
+            "periodic-orbits links {forbidden}"
+        );
+    }
+    let analysis = closure(&g, "runup-analysis");
+    assert!(analysis.contains("bearing"), "{analysis:?}");
+    for forbidden in [
+        "fmi2",
+        "cosim",
+        "fmu-rotor",
+        "fmu-airfilm",
+        "figures",
+        "master",
+        "plotters",
+    ] {
+        assert!(
+            !analysis.contains(forbidden),
+            "runup-analysis links {forbidden}"
+        );
+    }
+    let figures = closure(&g, "figures");
+    assert!(figures.contains("runup-analysis"), "{figures:?}");
+    for forbidden in ["fmu-rotor", "fmu-airfilm", "master", "periodic-orbits"] {
+        assert!(!figures.contains(forbidden), "figures links {forbidden}");
+    }
+    let app = closure(&g, "master");
+    for needed in ["periodic-orbits", "runup-analysis", "figures"] {
+        assert!(app.contains(needed), "master does not link {needed}");
+    }
+}

@@ -1,20 +1,17 @@
-//! Periodic whirl orbits: shooting, Floquet multipliers and the continuation of a branch in
-//! speed (`airring orbits`). The numerics are generic over [`shooting::Flow`]: the Hopf normal
-//! form (`normal_form.rs`, exact orbits) tests them, the co-simulated rotor uses them.
+//! Periodic whirl orbits of the co-simulated rotor (`airring orbits`, `airring sweep-orbits`).
+//! The numerics (shooting, Floquet multipliers, Newton-Krylov, continuation in speed) are the
+//! `periodic-orbits` crate's, generic over its `Flow`; `cosim_flow.rs` and `full_state.rs` make
+//! the co-simulation such a flow.
+
+pub use periodic_orbits::{continuation, krylov, normal_form, shooting};
 
 pub mod cli;
-pub mod continuation;
 pub mod cosim_flow;
 pub mod driver;
 pub mod figure;
 pub mod full_state;
-pub mod krylov;
-pub mod normal_form;
-pub mod shooting;
 pub mod study;
 
-#[cfg(test)]
-mod krylov_tests;
 #[cfg(test)]
 mod study_tests;
 #[cfg(test)]

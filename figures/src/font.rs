@@ -12,7 +12,7 @@ use std::sync::{Once, OnceLock};
 /// The family name the figures ask plotters for.
 pub const FAMILY: &str = "sans-serif";
 
-static TTF: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+static TTF: &[u8] = include_bytes!("../assets/fonts/DejaVuSans.ttf");
 
 fn face() -> &'static FontRef<'static> {
     static FACE: OnceLock<FontRef<'static>> = OnceLock::new();

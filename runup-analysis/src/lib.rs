@@ -11,8 +11,9 @@ pub mod onset;
 pub mod power;
 pub mod series;
 pub mod spectrum;
-#[cfg(test)]
-pub(crate) mod synth;
+/// Synthetic run-ups (a Hopf-like whirl on a ramp) for tests and examples, here and in the
+/// crates that draw or classify run-ups.
+pub mod synth;
 #[cfg(test)]
 mod tests;
 

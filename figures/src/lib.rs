@@ -23,8 +23,8 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::{BitMapBackend, DrawingArea, DrawingBackend, IntoDrawingArea};
 
-use crate::analysis::{Classification, RunSeries};
 use bearing::Bore;
+use runup_analysis::{Classification, RunSeries};
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Rgb(pub u8, pub u8, pub u8);
@@ -108,7 +108,8 @@ pub trait Figure {
     /// Write `<stem>.svg` and `<stem>.png` into `dir`, each whole or not at all.
     fn save(&self, dir: &Path, stem: &str) -> std::io::Result<Vec<PathBuf>> {
         let write = |path: &Path, bytes: &[u8]| {
-            crate::output::write_whole(path, bytes).map_err(std::io::Error::other)
+            cosim::files::write_whole(path, bytes)
+                .map_err(|e| std::io::Error::other(format!("{}: {e}", path.display())))
         };
         let svg = dir.join(format!("{stem}.svg"));
         write(
@@ -193,7 +194,7 @@ pub fn plot_runup(
     bores: &[Bore; 2],
     out_dir: &Path,
 ) -> std::io::Result<Vec<PathBuf>> {
-    use crate::analysis::Bearing;
+    use runup_analysis::Bearing;
     series.check();
     let figure = |k: usize| -> std::io::Result<Vec<PathBuf>> {
         match k {
@@ -246,7 +247,7 @@ fn on_two_threads<T: Send>(n: usize, job: impl Fn(usize) -> T + Sync) -> Vec<T> 
 /// Write the hysteresis figure (`hysteresis.svg`, `.png`) of a run with a run-down into `out_dir`.
 pub fn plot_hysteresis(
     series: &RunSeries,
-    h: &crate::analysis::Hysteresis,
+    h: &runup_analysis::Hysteresis,
     out_dir: &Path,
 ) -> std::io::Result<Vec<PathBuf>> {
     figures::hysteresis(series, h).save(out_dir, "hysteresis")

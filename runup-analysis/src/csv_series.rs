@@ -138,7 +138,7 @@ mod tests {
     fn the_films_own_eccentricities_are_used_when_recorded() {
         let without = series_from_csv(&csv(20), [20e-6; 2]).unwrap();
         assert!(without.eps_films.is_none());
-        let e = without.eps(crate::analysis::Bearing::C)[0];
+        let e = without.eps(crate::Bearing::C)[0];
         assert!((e - 1e-6f64.hypot(2e-6) / 20e-6).abs() < 1e-15);
         let with = csv(20)
             .replace(
@@ -147,8 +147,8 @@ mod tests {
             )
             .replace(",0\n", ",0,0.25,0.125\n");
         let r = series_from_csv(&with, [20e-6; 2]).unwrap();
-        assert_eq!(r.eps(crate::analysis::Bearing::C), vec![0.125; 20]);
-        assert_eq!(r.eps(crate::analysis::Bearing::T), vec![0.25; 20]);
+        assert_eq!(r.eps(crate::Bearing::C), vec![0.125; 20]);
+        assert_eq!(r.eps(crate::Bearing::T), vec![0.25; 20]);
     }
 
     #[test]

@@ -2,8 +2,8 @@
 
 use super::chart::{decimate_minmax, Chart, Heatmap};
 use super::{Anchor, Rgb, Role};
-use crate::analysis::{spectrogram, Bearing, Classification, RunSeries};
 use bearing::Bore;
+use runup_analysis::{spectrogram, Bearing, Classification, RunSeries};
 
 const W: u32 = 900;
 const H: u32 = 500;
@@ -331,7 +331,7 @@ pub fn bearing_frame(
 
 /// Eccentricity against speed with the speed going up and coming down (a profile with a run-down):
 /// the whirl's hysteresis, with the speeds where it starts and stops marked.
-pub fn hysteresis(series: &RunSeries, h: &crate::analysis::Hysteresis) -> Chart {
+pub fn hysteresis(series: &RunSeries, h: &runup_analysis::Hysteresis) -> Chart {
     let speed = series.speed_hz();
     let ec = series.eps(Bearing::C);
     let et = series.eps(Bearing::T);

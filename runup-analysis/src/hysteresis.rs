@@ -96,8 +96,8 @@ pub fn hysteresis(series: &RunSeries, class: &Classification) -> Option<Hysteres
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::analysis::classify;
-    use crate::analysis::synth::{base, C_M};
+    use crate::classify;
+    use crate::synth::{base, C_M};
     use std::f64::consts::TAU;
 
     /// A ramp-dwell-rundown profile 0 -> 2000 Hz (1.5 s), dwell to 3 s, down to 0 at 4.5 s.

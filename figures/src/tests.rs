@@ -1,8 +1,8 @@
 use std::path::PathBuf;
 
 use super::*;
-use crate::analysis::synth::{add_whirl, base, hopf_amp, C_M};
-use crate::analysis::{classify, Bearing};
+use runup_analysis::synth::{add_whirl, base, hopf_amp, C_M};
+use runup_analysis::{classify, Bearing};
 
 fn temp_dir(name: &str) -> PathBuf {
     let d = std::env::temp_dir().join(format!("airring-plot-{name}-{}", std::process::id()));

@@ -1,4 +1,4 @@
-//! Synthetic run-ups for the tests (this module is compiled for tests only).
+//! Synthetic run-ups for tests and examples.
 //!
 //! The base run follows the paper's Section 3 profile (0 to 2000 Hz in 3 s): the journals start centred, drop
 //! onto the film (a decaying start-up oscillation), then sit at a quasi-static equilibrium that drifts with

@@ -1,0 +1,75 @@
+//! `airring resume`: continue an interrupted run from its last checkpoint.
+
+use super::{check_checkpoint_every, finish, stop_flag};
+use master::run::{run, RunOptions};
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    /// The run folder (an interrupted run's, with its checkpoint).
+    pub dir: PathBuf,
+    /// Save a checkpoint every this many simulated seconds from here on [s].
+    #[arg(long)]
+    pub checkpoint_every: Option<f64>,
+    /// Also write timeseries.parquet at the end (automatic if the run wrote one before).
+    #[arg(long)]
+    pub parquet: bool,
+}
+
+pub fn execute(a: Args) -> Result<ExitCode, String> {
+    let Args {
+        dir,
+        checkpoint_every,
+        parquet,
+    } = a;
+    check_checkpoint_every(checkpoint_every)?;
+    if !dir.join("system.toml").is_file() {
+        return Err(format!(
+            "{}: no run to resume (no system.toml): the run never started here, or this \
+             is not a run folder",
+            dir.display()
+        ));
+    }
+    master::out_folder::check_not_in_progress(&dir)?;
+    let old = master::summary::RunSummary::read(&dir).unwrap_or_default();
+    if old.status == master::summary::RunStatus::Completed {
+        return Err(format!(
+            "{}: the run completed (summary.json): nothing to resume",
+            dir.display()
+        ));
+    }
+    if !dir.join("checkpoint").is_dir() {
+        let why = old
+            .error
+            .as_deref()
+            .map_or(String::new(), |e| format!(": {e}"));
+        let what = match old.status {
+            // Its summary still says "running": killed before it could say how it ended.
+            master::summary::RunStatus::Running => "was killed before it ended, and \
+                --checkpoint-every was not given"
+                .to_string(),
+            master::summary::RunStatus::Interrupted => format!("was interrupted{why}"),
+            other => format!("{}{why}", other.as_str()),
+        };
+        return Err(format!(
+            "{}: no checkpoint to resume from (the run {what}); run it again with \
+             --overwrite",
+            dir.display(),
+        ));
+    }
+    let opts = RunOptions {
+        out_dir: dir.clone(),
+        checkpoint_every_s: checkpoint_every,
+        stop: stop_flag(),
+        halt_at_s: None,
+        quiet: false,
+        extra: old.settings,
+        // The bores come from the run folder's own system file.
+        bores: None,
+        // A run that wrote Parquet goes on writing it.
+        parquet: parquet || dir.join("timeseries.parquet").exists(),
+    };
+    let report = run(&dir.join("system.toml"), &opts, true)?;
+    Ok(finish(report, &dir))
+}

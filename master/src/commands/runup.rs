@@ -1,0 +1,68 @@
+//! `airring runup`: a run-up of the paper's rotor (or a design's) in two air ring bearings.
+
+use super::{check_checkpoint_every, default_out, finish, fmu_dir, new_run, stop_flag, Common};
+use master::run::RunOptions;
+use std::process::ExitCode;
+
+#[derive(clap::Args)]
+pub struct Args {
+    #[command(flatten)]
+    pub args: Box<master::runup_cli::RunupArgs>,
+    #[command(flatten)]
+    pub common: Common,
+}
+
+pub fn execute(a: Args) -> Result<ExitCode, String> {
+    let Args { args, common } = a;
+    let mut s = master::runup_cli::settings(&args)?;
+    s.validate_runup()?;
+    // Every flag and the output folder checked before the calm plan's analysis runs.
+    check_checkpoint_every(common.checkpoint_every)?;
+    let out = common.out.clone().unwrap_or_else(|| default_out(&s.preset));
+    master::out_folder::check_new_run(&out, common.overwrite)?;
+    // The FMUs are found before the calm plan's analysis runs (a wrong --fmu-dir was
+    // reported only after it).
+    let dir = fmu_dir(args.fmu_dir.clone())?;
+    if let (Some(calm_us), Some(_)) = (s.calm_macro_step_us, s.calm_factor()) {
+        // A cache that cannot be opened only makes the plan slower.
+        let cache = args.linear_cache.as_deref().and_then(|d| {
+            master::linear_cache::LinearCache::open(d)
+                .map_err(|e| eprintln!("warning: --linear-cache not used: {e}"))
+                .ok()
+        });
+        let plan = master::calm_steps::plan(&s, cache.as_ref());
+        s.calm_windows_s = plan.windows_s.clone();
+        eprintln!("{}", master::calm_steps::describe(&plan, calm_us));
+    }
+    // TOML is UTF-8: a folder whose name is not cannot be written into a system file.
+    let dir_text = dir.to_str().ok_or_else(|| {
+        format!(
+            "--fmu-dir {}: the folder's path is not valid UTF-8, which a system file cannot \
+             hold; link or copy the FMUs to a folder with a UTF-8 name",
+            dir.display()
+        )
+    })?;
+    // The system file goes into the run folder only once the run has started.
+    let staged = master::out_folder::StagedSystem::new(&s.system_toml(dir_text))?;
+    eprintln!(
+        "run-up '{}': {}, {}; {}; macro step {} us -> {}",
+        s.preset,
+        master::runup::describe_bearings(&s)?,
+        s.describe_speed(),
+        master::runup::describe_film_mesh(&s)?,
+        s.macro_step_us,
+        out.display()
+    );
+    let opts = RunOptions {
+        out_dir: out.clone(),
+        checkpoint_every_s: common.checkpoint_every,
+        stop: stop_flag(),
+        halt_at_s: None,
+        quiet: common.quiet,
+        extra: serde_json::to_value(&s).unwrap_or_default(),
+        bores: None,
+        parquet: common.parquet,
+    };
+    let report = new_run(&staged.path, &opts).map_err(|e| staged.strip_path(e))?;
+    Ok(finish(report, &out))
+}
