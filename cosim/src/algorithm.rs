@@ -29,7 +29,7 @@ use crate::step_control::{
 };
 use crate::subsystem::Subsystem;
 use fmi2::importer::CallError;
-use fmi2::Status;
+use fmi_core::Status;
 use std::collections::VecDeque;
 use std::sync::Arc;
 use std::time::{Duration, Instant};

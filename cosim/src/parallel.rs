@@ -11,7 +11,7 @@
 //! finished its job, so no worker is left holding a pointer into a member.
 
 use fmi2::importer::CallError;
-use fmi2::Status;
+use fmi_core::Status;
 use std::cell::UnsafeCell;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::sync::atomic::{AtomicBool, AtomicU8, Ordering};

@@ -1,11 +1,12 @@
 //! An FMU of either FMI version, as the co-simulation drives it.
 //!
-//! `fmi2::importer` and `fmi3::importer` each drive their version's C functions; this enum gives
-//! the algorithm one surface over both. FMI 3.0 has no input derivatives: its importer answers the
+//! `fmi2::importer` and `fmi3::importer` each drive their version's C functions and implement one
+//! version-neutral interface, `fmi_core::CoSimSlave`, which the algorithm drives. FMI 3.0 has no input derivatives: its importer answers the
 //! FMU's intermediate updates with the same input polynomials (see `fmi3::importer`), so a system
 //! of FMI 3.0 twins runs the same macro steps with the same inputs as its FMI 2.0 original.
 
-use fmi2::importer::{unpack_unless_folder, CallError, ImportError, LogHandler, ModelDescription};
+use fmi2::importer::{unpack_unless_folder, ImportError, LogHandler, ModelDescription};
+pub use fmi_core::CoSimSlave;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -65,8 +66,8 @@ impl Fmu {
         log: LogHandler,
     ) -> Result<Slave, ImportError> {
         Ok(match self {
-            Fmu::V2(f) => Slave::V2(f.instantiate(instance_name, logging_on, log)?),
-            Fmu::V3(f) => Slave::V3(f.instantiate(instance_name, logging_on, log)?),
+            Fmu::V2(f) => Slave::new(f.instantiate(instance_name, logging_on, log)?),
+            Fmu::V3(f) => Slave::new(f.instantiate(instance_name, logging_on, log)?),
         })
     }
 }
@@ -100,161 +101,25 @@ impl LoadedFmus {
     }
 }
 
-/// An instance of either version.
-pub enum Slave {
-    V2(fmi2::importer::Slave),
-    V3(fmi3::importer::Slave),
-}
-
-/// A saved state of either version.
-pub enum FmuState {
-    V2(fmi2::importer::FmuState),
-    V3(fmi3::importer::FmuState),
-}
-
-fn mismatch() -> CallError {
-    CallError {
-        function: "an FMU state of the other FMI version",
-        status: fmi2::Status::Error,
-    }
-}
-
-/// One call on either version with the same arguments.
-macro_rules! both {
-    ($self:ident, $s:ident => $e:expr) => {
-        match $self {
-            Slave::V2($s) => $e,
-            Slave::V3($s) => $e,
-        }
-    };
-}
+/// An instance of either version, behind the version-neutral interface both importers
+/// implement (`fmi_core::CoSimSlave`): the algorithm calls it without knowing which.
+pub struct Slave(Box<dyn CoSimSlave>);
 
 impl Slave {
-    pub fn name(&self) -> &str {
-        both!(self, s => s.name())
-    }
-
-    pub fn setup_experiment(
-        &self,
-        tolerance: Option<f64>,
-        start: f64,
-        stop: Option<f64>,
-    ) -> Result<(), CallError> {
-        both!(self, s => s.setup_experiment(tolerance, start, stop))
-    }
-
-    pub fn enter_initialization_mode(&self) -> Result<(), CallError> {
-        both!(self, s => s.enter_initialization_mode())
-    }
-
-    pub fn exit_initialization_mode(&self) -> Result<(), CallError> {
-        both!(self, s => s.exit_initialization_mode())
-    }
-
-    pub fn terminate(&self) -> Result<(), CallError> {
-        both!(self, s => s.terminate())
-    }
-
-    pub fn set_real(&self, vrs: &[u32], values: &[f64]) -> Result<(), CallError> {
-        match self {
-            Slave::V2(s) => s.set_real(vrs, values),
-            Slave::V3(s) => s.set_float64(vrs, values),
-        }
-    }
-
-    pub fn get_real(&self, vrs: &[u32], values: &mut [f64]) -> Result<(), CallError> {
-        match self {
-            Slave::V2(s) => s.get_real(vrs, values),
-            Slave::V3(s) => s.get_float64(vrs, values),
-        }
-    }
-
-    pub fn set_integer(&self, vrs: &[u32], values: &[i32]) -> Result<(), CallError> {
-        match self {
-            Slave::V2(s) => s.set_integer(vrs, values),
-            Slave::V3(s) => s.set_int32(vrs, values),
-        }
-    }
-
-    pub fn get_integer(&self, vrs: &[u32], values: &mut [i32]) -> Result<(), CallError> {
-        match self {
-            Slave::V2(s) => s.get_integer(vrs, values),
-            Slave::V3(s) => s.get_int32(vrs, values),
-        }
-    }
-
-    pub fn set_boolean(&self, vrs: &[u32], values: &[bool]) -> Result<(), CallError> {
-        both!(self, s => s.set_boolean(vrs, values))
-    }
-
-    pub fn get_boolean(&self, vrs: &[u32], values: &mut [bool]) -> Result<(), CallError> {
-        both!(self, s => s.get_boolean(vrs, values))
-    }
-
-    /// FMI 2.0: fmi2SetRealInputDerivatives. FMI 3.0: the polynomials the importer answers the
-    /// FMU's intermediate updates with, in the next step.
-    pub fn set_real_input_derivatives(
-        &self,
-        vrs: &[u32],
-        orders: &[i32],
-        values: &[f64],
-    ) -> Result<(), CallError> {
-        match self {
-            Slave::V2(s) => s.set_real_input_derivatives(vrs, orders, values),
-            Slave::V3(s) => s.set_input_derivatives(vrs, orders, values),
-        }
-    }
-
-    pub fn do_step(&self, t: f64, h: f64) -> Result<(), CallError> {
-        both!(self, s => s.do_step(t, h))
-    }
-
-    /// The time a discarded step reached.
-    pub fn last_successful_time(&self) -> Result<f64, CallError> {
-        match self {
-            Slave::V2(s) => s.last_successful_time(),
-            Slave::V3(s) => Ok(s.last_successful_time()),
-        }
-    }
-
-    pub fn get_state(&self) -> Result<FmuState, CallError> {
-        match self {
-            Slave::V2(s) => s.get_state().map(FmuState::V2),
-            Slave::V3(s) => s.get_state().map(FmuState::V3),
-        }
-    }
-
-    pub fn update_state(&self, state: &mut FmuState) -> Result<(), CallError> {
-        match (self, state) {
-            (Slave::V2(s), FmuState::V2(st)) => s.update_state(st),
-            (Slave::V3(s), FmuState::V3(st)) => s.update_state(st),
-            _ => Err(mismatch()),
-        }
-    }
-
-    pub fn set_state(&self, state: &FmuState) -> Result<(), CallError> {
-        match (self, state) {
-            (Slave::V2(s), FmuState::V2(st)) => s.set_state(st),
-            (Slave::V3(s), FmuState::V3(st)) => s.set_state(st),
-            _ => Err(mismatch()),
-        }
-    }
-
-    pub fn serialize_state(&self, state: &FmuState) -> Result<Vec<u8>, CallError> {
-        match (self, state) {
-            (Slave::V2(s), FmuState::V2(st)) => s.serialize_state(st),
-            (Slave::V3(s), FmuState::V3(st)) => s.serialize_state(st),
-            _ => Err(mismatch()),
-        }
-    }
-
-    pub fn deserialize_state(&self, bytes: &[u8]) -> Result<FmuState, CallError> {
-        match self {
-            Slave::V2(s) => s.deserialize_state(bytes).map(FmuState::V2),
-            Slave::V3(s) => s.deserialize_state(bytes).map(FmuState::V3),
-        }
+    pub fn new(slave: impl CoSimSlave + 'static) -> Self {
+        Slave(Box::new(slave))
     }
 }
+
+impl std::ops::Deref for Slave {
+    type Target = dyn CoSimSlave;
+    fn deref(&self) -> &Self::Target {
+        &*self.0
+    }
+}
+
+/// A saved state of either version (opaque: each importer keeps its own kind inside).
+pub type FmuState = fmi_core::SavedState;
 
 #[cfg(test)]
 mod tests {

@@ -3,7 +3,7 @@
 
 use crate::slave::{FmuState, Slave};
 use fmi2::importer::{CallError, ModelDescription};
-use fmi2::Status;
+use fmi_core::Status;
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
 

@@ -22,40 +22,9 @@ pub const FMI2_FALSE: Fmi2Boolean = 0;
 /// and a Rust enum holding an out-of-range value would be undefined behaviour.
 pub type Fmi2StatusRaw = c_int;
 
-#[repr(i32)]
-#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
-pub enum Status {
-    Ok = 0,
-    Warning = 1,
-    Discard = 2,
-    Error = 3,
-    Fatal = 4,
-    Pending = 5,
-}
-
-impl Status {
-    pub fn from_raw(raw: Fmi2StatusRaw) -> Option<Status> {
-        Some(match raw {
-            0 => Status::Ok,
-            1 => Status::Warning,
-            2 => Status::Discard,
-            3 => Status::Error,
-            4 => Status::Fatal,
-            5 => Status::Pending,
-            _ => return None,
-        })
-    }
-    pub fn name(self) -> &'static str {
-        match self {
-            Status::Ok => "fmi2OK",
-            Status::Warning => "fmi2Warning",
-            Status::Discard => "fmi2Discard",
-            Status::Error => "fmi2Error",
-            Status::Fatal => "fmi2Fatal",
-            Status::Pending => "fmi2Pending",
-        }
-    }
-}
+/// `fmi2Status` as Rust returns it: the version-neutral status of the FMI core (its
+/// discriminants are the C values).
+pub use fmi_core::Status;
 
 /// `fmi2Type`
 pub type Fmi2Type = c_int;

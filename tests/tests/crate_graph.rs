@@ -188,3 +188,17 @@ fn the_applications_libraries_know_only_what_their_job_needs() {
         assert!(app.contains(needed), "master does not link {needed}");
     }
 }
+
+/// The FMI core is below both standards' layers and knows neither: both link it, it links no
+/// workspace crate; the co-simulation library drives slaves through it.
+#[test]
+fn the_fmi_core_knows_no_standard_and_both_layers_share_it() {
+    let g = graph();
+    let core = closure(&g, "fmi-core");
+    for other in g.keys() {
+        assert!(!core.contains(other), "fmi-core links {other}");
+    }
+    for layer in ["fmi2", "fmi3", "cosim"] {
+        assert!(closure(&g, layer).contains("fmi-core"), "{layer} does not link fmi-core");
+    }
+}

@@ -83,32 +83,7 @@ unsafe extern "C" fn dealloc(p: *mut c_void) {
     unsafe { free(p) }
 }
 
-/// A non-OK status from an FMI call (fmi2Warning is treated as success and only logged).
-#[derive(Clone, Debug, PartialEq)]
-pub struct CallError {
-    pub function: &'static str,
-    pub status: Status,
-}
-
-impl std::fmt::Display for CallError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{} returned {}", self.function, self.status.name())
-    }
-}
-
-impl std::error::Error for CallError {}
-
-/// A raw status as a result (FMI 2.0 and 3.0 number their statuses alike).
-pub fn check(function: &'static str, raw: Fmi2StatusRaw) -> Result<(), CallError> {
-    match Status::from_raw(raw) {
-        Some(Status::Ok | Status::Warning) => Ok(()),
-        Some(status) => Err(CallError { function, status }),
-        None => Err(CallError {
-            function,
-            status: Status::Fatal,
-        }),
-    }
-}
+pub use fmi_core::{check, CallError};
 
 struct Inner {
     api: Arc<Api>,
@@ -457,5 +432,76 @@ impl Slave {
             inner: self.inner.clone(),
             ptr,
         })
+    }
+}
+
+/// The version-neutral surface `cosim` drives (fmi_core::CoSimSlave): the same calls.
+impl fmi_core::CoSimSlave for Slave {
+    fn name(&self) -> &str {
+        Slave::name(self)
+    }
+    fn setup_experiment(
+        &self,
+        tolerance: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Result<(), CallError> {
+        Slave::setup_experiment(self, tolerance, start, stop)
+    }
+    fn enter_initialization_mode(&self) -> Result<(), CallError> {
+        Slave::enter_initialization_mode(self)
+    }
+    fn exit_initialization_mode(&self) -> Result<(), CallError> {
+        Slave::exit_initialization_mode(self)
+    }
+    fn terminate(&self) -> Result<(), CallError> {
+        Slave::terminate(self)
+    }
+    fn set_real(&self, vrs: &[u32], values: &[f64]) -> Result<(), CallError> {
+        Slave::set_real(self, vrs, values)
+    }
+    fn get_real(&self, vrs: &[u32], values: &mut [f64]) -> Result<(), CallError> {
+        Slave::get_real(self, vrs, values)
+    }
+    fn set_integer(&self, vrs: &[u32], values: &[i32]) -> Result<(), CallError> {
+        Slave::set_integer(self, vrs, values)
+    }
+    fn get_integer(&self, vrs: &[u32], values: &mut [i32]) -> Result<(), CallError> {
+        Slave::get_integer(self, vrs, values)
+    }
+    fn set_boolean(&self, vrs: &[u32], values: &[bool]) -> Result<(), CallError> {
+        Slave::set_boolean(self, vrs, values)
+    }
+    fn get_boolean(&self, vrs: &[u32], values: &mut [bool]) -> Result<(), CallError> {
+        Slave::get_boolean(self, vrs, values)
+    }
+    fn set_real_input_derivatives(
+        &self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &[f64],
+    ) -> Result<(), CallError> {
+        Slave::set_real_input_derivatives(self, vrs, orders, values)
+    }
+    fn do_step(&self, t: f64, h: f64) -> Result<(), CallError> {
+        Slave::do_step(self, t, h)
+    }
+    fn last_successful_time(&self) -> Result<f64, CallError> {
+        Slave::last_successful_time(self)
+    }
+    fn get_state(&self) -> Result<fmi_core::SavedState, CallError> {
+        Slave::get_state(self).map(fmi_core::SavedState::new)
+    }
+    fn update_state(&self, state: &mut fmi_core::SavedState) -> Result<(), CallError> {
+        Slave::update_state(self, state.get_mut::<FmuState>("fmi2GetFMUstate")?)
+    }
+    fn set_state(&self, state: &fmi_core::SavedState) -> Result<(), CallError> {
+        Slave::set_state(self, state.get::<FmuState>("fmi2SetFMUstate")?)
+    }
+    fn serialize_state(&self, state: &fmi_core::SavedState) -> Result<Vec<u8>, CallError> {
+        Slave::serialize_state(self, state.get::<FmuState>("fmi2SerializeFMUstate")?)
+    }
+    fn deserialize_state(&self, bytes: &[u8]) -> Result<fmi_core::SavedState, CallError> {
+        Slave::deserialize_state(self, bytes).map(fmi_core::SavedState::new)
     }
 }

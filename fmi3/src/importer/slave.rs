@@ -10,7 +10,8 @@
 use super::library::Api;
 use crate::types::*;
 use fmi2::importer::{check, lossy, CallError, ImportError, LogHandler, LogRecord};
-use fmi2::{Status, MAX_INPUT_DERIVATIVE_ORDER};
+use fmi2::MAX_INPUT_DERIVATIVE_ORDER;
+use fmi_core::Status;
 use std::cell::{Cell, RefCell};
 use std::ffi::{c_char, c_void, CString};
 use std::path::Path;
@@ -577,5 +578,77 @@ impl Slave {
             inner: self.inner.clone(),
             ptr,
         })
+    }
+}
+
+/// The version-neutral surface `cosim` drives (fmi_core::CoSimSlave): Float64 as reals, Int32 as
+/// integers, input derivatives as the polynomials of the intermediate updates.
+impl fmi_core::CoSimSlave for Slave {
+    fn name(&self) -> &str {
+        Slave::name(self)
+    }
+    fn setup_experiment(
+        &self,
+        tolerance: Option<f64>,
+        start: f64,
+        stop: Option<f64>,
+    ) -> Result<(), CallError> {
+        Slave::setup_experiment(self, tolerance, start, stop)
+    }
+    fn enter_initialization_mode(&self) -> Result<(), CallError> {
+        Slave::enter_initialization_mode(self)
+    }
+    fn exit_initialization_mode(&self) -> Result<(), CallError> {
+        Slave::exit_initialization_mode(self)
+    }
+    fn terminate(&self) -> Result<(), CallError> {
+        Slave::terminate(self)
+    }
+    fn set_real(&self, vrs: &[u32], values: &[f64]) -> Result<(), CallError> {
+        Slave::set_float64(self, vrs, values)
+    }
+    fn get_real(&self, vrs: &[u32], values: &mut [f64]) -> Result<(), CallError> {
+        Slave::get_float64(self, vrs, values)
+    }
+    fn set_integer(&self, vrs: &[u32], values: &[i32]) -> Result<(), CallError> {
+        Slave::set_int32(self, vrs, values)
+    }
+    fn get_integer(&self, vrs: &[u32], values: &mut [i32]) -> Result<(), CallError> {
+        Slave::get_int32(self, vrs, values)
+    }
+    fn set_boolean(&self, vrs: &[u32], values: &[bool]) -> Result<(), CallError> {
+        Slave::set_boolean(self, vrs, values)
+    }
+    fn get_boolean(&self, vrs: &[u32], values: &mut [bool]) -> Result<(), CallError> {
+        Slave::get_boolean(self, vrs, values)
+    }
+    fn set_real_input_derivatives(
+        &self,
+        vrs: &[u32],
+        orders: &[i32],
+        values: &[f64],
+    ) -> Result<(), CallError> {
+        Slave::set_input_derivatives(self, vrs, orders, values)
+    }
+    fn do_step(&self, t: f64, h: f64) -> Result<(), CallError> {
+        Slave::do_step(self, t, h)
+    }
+    fn last_successful_time(&self) -> Result<f64, CallError> {
+        Ok(Slave::last_successful_time(self))
+    }
+    fn get_state(&self) -> Result<fmi_core::SavedState, CallError> {
+        Slave::get_state(self).map(fmi_core::SavedState::new)
+    }
+    fn update_state(&self, state: &mut fmi_core::SavedState) -> Result<(), CallError> {
+        Slave::update_state(self, state.get_mut::<FmuState>("fmi3GetFMUState")?)
+    }
+    fn set_state(&self, state: &fmi_core::SavedState) -> Result<(), CallError> {
+        Slave::set_state(self, state.get::<FmuState>("fmi3SetFMUState")?)
+    }
+    fn serialize_state(&self, state: &fmi_core::SavedState) -> Result<Vec<u8>, CallError> {
+        Slave::serialize_state(self, state.get::<FmuState>("fmi3SerializeFMUState")?)
+    }
+    fn deserialize_state(&self, bytes: &[u8]) -> Result<fmi_core::SavedState, CallError> {
+        Slave::deserialize_state(self, bytes).map(fmi_core::SavedState::new)
     }
 }
