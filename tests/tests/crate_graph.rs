@@ -199,6 +199,9 @@ fn the_fmi_core_knows_no_standard_and_both_layers_share_it() {
         assert!(!core.contains(other), "fmi-core links {other}");
     }
     for layer in ["fmi2", "fmi3", "cosim"] {
-        assert!(closure(&g, layer).contains("fmi-core"), "{layer} does not link fmi-core");
+        assert!(
+            closure(&g, layer).contains("fmi-core"),
+            "{layer} does not link fmi-core"
+        );
     }
 }
