@@ -85,7 +85,8 @@ unsafe extern "C" fn dealloc(p: *mut c_void) {
 
 pub use fmi_core::{check, CallError};
 
-struct Inner {
+/// An instance's handle: its library's functions and its C instance, freed when dropped.
+pub struct Inner {
     api: Arc<Api>,
     c: Fmi2Component,
     // Boxed so their addresses stay fixed while the FMU holds them.
@@ -111,17 +112,35 @@ pub struct Slave {
 unsafe impl Send for Slave {}
 
 /// An FMU state of a slave; freed (fmi2FreeFMUstate) on drop. Keeps its instance alive.
-pub struct FmuState {
-    inner: Arc<Inner>,
-    ptr: Fmi2FmuState,
-}
+pub type FmuState = fmi_core::states::FmuState<Inner>;
 
-unsafe impl Send for FmuState {}
-
-impl Drop for FmuState {
-    fn drop(&mut self) {
-        // SAFETY: ptr is a state of this instance, freed once.
-        unsafe { (self.inner.api.free_fmu_state)(self.inner.c, &mut self.ptr) };
+// SAFETY: each call is the FMU's own function for this live instance (`c`, freed only when
+// `Inner` drops), with the arguments as given; fmi2Byte is c_char, passed as u8 of the same size.
+unsafe impl fmi_core::states::StateCalls for Inner {
+    const NAMES: fmi_core::states::StateNames = fmi_core::states::StateNames {
+        get: "fmi2GetFMUstate",
+        set: "fmi2SetFMUstate",
+        size: "fmi2SerializedFMUstateSize",
+        serialize: "fmi2SerializeFMUstate",
+        deserialize: "fmi2DeSerializeFMUstate",
+    };
+    unsafe fn get(&self, state: *mut Fmi2FmuState) -> i32 {
+        unsafe { (self.api.get_fmu_state)(self.c, state) }
+    }
+    unsafe fn set(&self, state: Fmi2FmuState) -> i32 {
+        unsafe { (self.api.set_fmu_state)(self.c, state) }
+    }
+    unsafe fn free(&self, state: *mut Fmi2FmuState) -> i32 {
+        unsafe { (self.api.free_fmu_state)(self.c, state) }
+    }
+    unsafe fn size(&self, state: Fmi2FmuState, size: *mut usize) -> i32 {
+        unsafe { (self.api.serialized_fmu_state_size)(self.c, state, size) }
+    }
+    unsafe fn serialize(&self, state: Fmi2FmuState, bytes: *mut u8, size: usize) -> i32 {
+        unsafe { (self.api.serialize_fmu_state)(self.c, state, bytes as *mut Fmi2Byte, size) }
+    }
+    unsafe fn deserialize(&self, bytes: *const u8, size: usize, state: *mut Fmi2FmuState) -> i32 {
+        unsafe { (self.api.de_serialize_fmu_state)(self.c, bytes as *const Fmi2Byte, size, state) }
     }
 }
 
@@ -368,70 +387,24 @@ impl Slave {
     }
 
     pub fn get_state(&self) -> Result<FmuState, CallError> {
-        let mut ptr: Fmi2FmuState = std::ptr::null_mut();
-        // SAFETY: out pointer to a null state.
-        check("fmi2GetFMUstate", unsafe {
-            (self.api().get_fmu_state)(self.c(), &mut ptr)
-        })?;
-        Ok(FmuState {
-            inner: self.inner.clone(),
-            ptr,
-        })
+        FmuState::get(&self.inner)
     }
 
     /// fmi2GetFMUstate into an existing state (the FMU may reuse its memory).
     pub fn update_state(&self, state: &mut FmuState) -> Result<(), CallError> {
-        assert!(
-            Arc::ptr_eq(&state.inner, &self.inner),
-            "a state of another instance"
-        );
-        // SAFETY: a state of this instance, overwritten in place.
-        check("fmi2GetFMUstate", unsafe {
-            (self.api().get_fmu_state)(self.c(), &mut state.ptr)
-        })
+        state.update(&self.inner)
     }
 
     pub fn set_state(&self, state: &FmuState) -> Result<(), CallError> {
-        // SAFETY: a state of this instance.
-        check("fmi2SetFMUstate", unsafe {
-            (self.api().set_fmu_state)(self.c(), state.ptr)
-        })
+        state.set(&self.inner)
     }
 
     pub fn serialize_state(&self, state: &FmuState) -> Result<Vec<u8>, CallError> {
-        let mut n = 0usize;
-        // SAFETY: a state of this instance; out pointer.
-        check("fmi2SerializedFMUstateSize", unsafe {
-            (self.api().serialized_fmu_state_size)(self.c(), state.ptr, &mut n)
-        })?;
-        let mut bytes = vec![0u8; n];
-        // SAFETY: buffer of n bytes.
-        check("fmi2SerializeFMUstate", unsafe {
-            (self.api().serialize_fmu_state)(
-                self.c(),
-                state.ptr,
-                bytes.as_mut_ptr() as *mut Fmi2Byte,
-                n,
-            )
-        })?;
-        Ok(bytes)
+        state.serialize()
     }
 
     pub fn deserialize_state(&self, bytes: &[u8]) -> Result<FmuState, CallError> {
-        let mut ptr: Fmi2FmuState = std::ptr::null_mut();
-        // SAFETY: buffer of bytes.len() bytes; out pointer.
-        check("fmi2DeSerializeFMUstate", unsafe {
-            (self.api().de_serialize_fmu_state)(
-                self.c(),
-                bytes.as_ptr() as *const Fmi2Byte,
-                bytes.len(),
-                &mut ptr,
-            )
-        })?;
-        Ok(FmuState {
-            inner: self.inner.clone(),
-            ptr,
-        })
+        FmuState::deserialize(&self.inner, bytes)
     }
 }
 

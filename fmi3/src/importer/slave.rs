@@ -141,7 +141,8 @@ unsafe extern "C" fn intermediate_update(
     }));
 }
 
-struct Inner {
+/// An instance's handle: its library's functions and its C instance, freed when dropped.
+pub struct Inner {
     api: Arc<Api>,
     c: fmi3Instance,
     env: Box<Env>,
@@ -166,17 +167,35 @@ pub struct Slave {
 unsafe impl Send for Slave {}
 
 /// An FMU state of a slave; freed (fmi3FreeFMUState) on drop. Keeps its instance alive.
-pub struct FmuState {
-    inner: Arc<Inner>,
-    ptr: fmi3FMUState,
-}
+pub type FmuState = fmi_core::states::FmuState<Inner>;
 
-unsafe impl Send for FmuState {}
-
-impl Drop for FmuState {
-    fn drop(&mut self) {
-        // SAFETY: ptr is a state of this instance, freed once.
-        unsafe { (self.inner.api.free_fmu_state)(self.inner.c, &mut self.ptr) };
+// SAFETY: each call is the FMU's own function for this live instance (`c`, freed only when
+// `Inner` drops), with the arguments as given.
+unsafe impl fmi_core::states::StateCalls for Inner {
+    const NAMES: fmi_core::states::StateNames = fmi_core::states::StateNames {
+        get: "fmi3GetFMUState",
+        set: "fmi3SetFMUState",
+        size: "fmi3SerializedFMUStateSize",
+        serialize: "fmi3SerializeFMUState",
+        deserialize: "fmi3DeserializeFMUState",
+    };
+    unsafe fn get(&self, state: *mut fmi3FMUState) -> i32 {
+        unsafe { (self.api.get_fmu_state)(self.c, state) }
+    }
+    unsafe fn set(&self, state: fmi3FMUState) -> i32 {
+        unsafe { (self.api.set_fmu_state)(self.c, state) }
+    }
+    unsafe fn free(&self, state: *mut fmi3FMUState) -> i32 {
+        unsafe { (self.api.free_fmu_state)(self.c, state) }
+    }
+    unsafe fn size(&self, state: fmi3FMUState, size: *mut usize) -> i32 {
+        unsafe { (self.api.serialized_fmu_state_size)(self.c, state, size) }
+    }
+    unsafe fn serialize(&self, state: fmi3FMUState, bytes: *mut u8, size: usize) -> i32 {
+        unsafe { (self.api.serialize_fmu_state)(self.c, state, bytes, size) }
+    }
+    unsafe fn deserialize(&self, bytes: *const u8, size: usize, state: *mut fmi3FMUState) -> i32 {
+        unsafe { (self.api.deserialize_fmu_state)(self.c, bytes, size, state) }
     }
 }
 
@@ -524,60 +543,24 @@ impl Slave {
     }
 
     pub fn get_state(&self) -> Result<FmuState, CallError> {
-        let mut ptr: fmi3FMUState = std::ptr::null_mut();
-        // SAFETY: out pointer to a null state.
-        check("fmi3GetFMUState", unsafe {
-            (self.api().get_fmu_state)(self.c(), &mut ptr)
-        })?;
-        Ok(FmuState {
-            inner: self.inner.clone(),
-            ptr,
-        })
+        FmuState::get(&self.inner)
     }
 
     /// fmi3GetFMUState into an existing state (the FMU may reuse its memory).
     pub fn update_state(&self, state: &mut FmuState) -> Result<(), CallError> {
-        assert!(
-            Arc::ptr_eq(&state.inner, &self.inner),
-            "a state of another instance"
-        );
-        // SAFETY: a state of this instance, overwritten in place.
-        check("fmi3GetFMUState", unsafe {
-            (self.api().get_fmu_state)(self.c(), &mut state.ptr)
-        })
+        state.update(&self.inner)
     }
 
     pub fn set_state(&self, state: &FmuState) -> Result<(), CallError> {
-        // SAFETY: a state of this instance.
-        check("fmi3SetFMUState", unsafe {
-            (self.api().set_fmu_state)(self.c(), state.ptr)
-        })
+        state.set(&self.inner)
     }
 
     pub fn serialize_state(&self, state: &FmuState) -> Result<Vec<u8>, CallError> {
-        let mut n = 0usize;
-        // SAFETY: a state of this instance; out pointer.
-        check("fmi3SerializedFMUStateSize", unsafe {
-            (self.api().serialized_fmu_state_size)(self.c(), state.ptr, &mut n)
-        })?;
-        let mut bytes = vec![0u8; n];
-        // SAFETY: buffer of n bytes.
-        check("fmi3SerializeFMUState", unsafe {
-            (self.api().serialize_fmu_state)(self.c(), state.ptr, bytes.as_mut_ptr(), n)
-        })?;
-        Ok(bytes)
+        state.serialize()
     }
 
     pub fn deserialize_state(&self, bytes: &[u8]) -> Result<FmuState, CallError> {
-        let mut ptr: fmi3FMUState = std::ptr::null_mut();
-        // SAFETY: buffer of bytes.len() bytes; out pointer.
-        check("fmi3DeserializeFMUState", unsafe {
-            (self.api().deserialize_fmu_state)(self.c(), bytes.as_ptr(), bytes.len(), &mut ptr)
-        })?;
-        Ok(FmuState {
-            inner: self.inner.clone(),
-            ptr,
-        })
+        FmuState::deserialize(&self.inner, bytes)
     }
 }
 
