@@ -400,8 +400,10 @@ pub struct SpeedTable {
     phi_rad: [f64; MAX_SPEED_POINTS],
 }
 
-/// The FMU's names of the speed table's points, for errors that name the point.
-const SPEED_TABLE_T: [&str; MAX_SPEED_POINTS] = [
+/// The FMU's names of the speed table's points: its variable table's names and the errors that
+/// name a point. Literals: a variable name is `&'static str`, and names built at run time would
+/// have to be leaked, memory that valgrind reports lost each time a master unloads the library.
+pub(crate) const SPEED_TABLE_T: [&str; MAX_SPEED_POINTS] = [
     "speed_table_t_01",
     "speed_table_t_02",
     "speed_table_t_03",
@@ -419,7 +421,7 @@ const SPEED_TABLE_T: [&str; MAX_SPEED_POINTS] = [
     "speed_table_t_15",
     "speed_table_t_16",
 ];
-const SPEED_TABLE_F: [&str; MAX_SPEED_POINTS] = [
+pub(crate) const SPEED_TABLE_F: [&str; MAX_SPEED_POINTS] = [
     "speed_table_f_01",
     "speed_table_f_02",
     "speed_table_f_03",

@@ -220,7 +220,7 @@ fn speed_table_vars() -> Vec<Variable> {
     .range(Some(0.0), Some(MAX_SPEED_POINTS as f64))];
     for k in 0..MAX_SPEED_POINTS as u32 {
         v.push(Variable::real_parameter(
-            SPEED_TABLE_T_NAMES[k as usize],
+            crate::params::SPEED_TABLE_T[k as usize],
             vr::SPEED_TABLE_T + k,
             0.0,
             "s",
@@ -229,7 +229,7 @@ fn speed_table_vars() -> Vec<Variable> {
     }
     for k in 0..MAX_SPEED_POINTS as u32 {
         v.push(Variable::real_parameter(
-            SPEED_TABLE_F_NAMES[k as usize],
+            crate::params::SPEED_TABLE_F[k as usize],
             vr::SPEED_TABLE_F + k,
             0.0,
             "Hz",
@@ -238,46 +238,6 @@ fn speed_table_vars() -> Vec<Variable> {
     }
     v
 }
-
-/// The speed-table points' names, as literals: a variable name is `&'static str`, and names
-/// built at run time would have to be leaked, memory that valgrind reports lost each time a
-/// master unloads the library.
-const SPEED_TABLE_T_NAMES: [&str; MAX_SPEED_POINTS] = [
-    "speed_table_t_01",
-    "speed_table_t_02",
-    "speed_table_t_03",
-    "speed_table_t_04",
-    "speed_table_t_05",
-    "speed_table_t_06",
-    "speed_table_t_07",
-    "speed_table_t_08",
-    "speed_table_t_09",
-    "speed_table_t_10",
-    "speed_table_t_11",
-    "speed_table_t_12",
-    "speed_table_t_13",
-    "speed_table_t_14",
-    "speed_table_t_15",
-    "speed_table_t_16",
-];
-const SPEED_TABLE_F_NAMES: [&str; MAX_SPEED_POINTS] = [
-    "speed_table_f_01",
-    "speed_table_f_02",
-    "speed_table_f_03",
-    "speed_table_f_04",
-    "speed_table_f_05",
-    "speed_table_f_06",
-    "speed_table_f_07",
-    "speed_table_f_08",
-    "speed_table_f_09",
-    "speed_table_f_10",
-    "speed_table_f_11",
-    "speed_table_f_12",
-    "speed_table_f_13",
-    "speed_table_f_14",
-    "speed_table_f_15",
-    "speed_table_f_16",
-];
 
 fn imbalance_vars(side: &'static [&'static str; 4], base: u32, d: &Imbalance) -> Vec<Variable> {
     vec![
