@@ -9,6 +9,8 @@
 //! in the words of the standard the failed function belongs to ("fmi3DoStep returned
 //! fmi3Discard"). The exporters (`fmi2`, `fmi3`) return the same `Status`.
 
+#[cfg(feature = "archive")]
+pub mod archive;
 pub mod states;
 
 use std::any::Any;

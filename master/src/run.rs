@@ -46,8 +46,9 @@ pub fn stderr_logger() -> LogHandler {
     Arc::new(|r: &LogRecord| {
         if r.status >= Status::Warning || std::env::var_os("AIRRING_LOG_DEBUG").is_some() {
             eprintln!(
-                "[{}] {} {}: {}",
+                "[{}] {}{} {}: {}",
                 r.instance,
+                r.standard,
                 r.status.name(),
                 r.category,
                 r.message

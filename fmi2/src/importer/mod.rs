@@ -3,46 +3,17 @@
 //! Used by the `airring` master and the integration tests. Unlike the `fmi` crate it can set input
 //! derivatives, get and serialize FMU states, and it reports every status code faithfully.
 
-mod archive;
 mod description;
 mod library;
 mod slave;
 
-pub use archive::{unpack, UnpackedDir};
 pub use description::{ModelDescription, ScalarVariable, UnitInfo};
+pub use fmi_core::archive::{folder_of, unpack, unpack_unless_folder, ImportError, UnpackedDir};
 pub use library::Api;
 pub use slave::{check, lossy, CallError, FmuState, LogHandler, LogRecord, Slave};
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
-
-#[derive(Debug)]
-pub struct ImportError(pub String);
-
-impl std::fmt::Display for ImportError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        f.write_str(&self.0)
-    }
-}
-
-impl std::error::Error for ImportError {}
-
-/// An FMU's folder: `path` itself when it is an unpacked FMU, else a fresh temporary folder the
-/// archive is unpacked into (removed when the guard is dropped). Shared by both importers.
-pub fn unpack_unless_folder(path: &Path) -> Result<(Option<UnpackedDir>, PathBuf), ImportError> {
-    let unpacked = if path.is_dir() {
-        None
-    } else {
-        Some(unpack(path)?)
-    };
-    let dir = folder_of(path, unpacked.as_ref());
-    Ok((unpacked, dir))
-}
-
-/// The folder an FMU lives in: its unpacked copy, or `path` itself.
-pub fn folder_of(path: &Path, unpacked: Option<&UnpackedDir>) -> PathBuf {
-    unpacked.map_or_else(|| path.to_path_buf(), |u| u.path().to_path_buf())
-}
 
 /// A loaded FMU: its description and its shared library. Instances are created with `instantiate`.
 pub struct Fmu {

@@ -10,6 +10,9 @@ use std::sync::Arc;
 pub struct LogRecord {
     pub instance: String,
     pub status: Status,
+    /// The standard of the FMU that logged it ("fmi2", "fmi3"): the prefix of the status's C
+    /// name (`fmi2Warning`, `fmi3Warning`).
+    pub standard: &'static str,
     pub category: String,
     pub message: String,
 }
@@ -66,6 +69,7 @@ unsafe extern "C" fn sink(
             // SAFETY: strings from the FMU (or the shim), valid for this call.
             instance: unsafe { lossy(instance) },
             status: Status::from_raw(status).unwrap_or(Status::Fatal),
+            standard: "fmi2",
             category: unsafe { lossy(category) },
             message: unsafe { lossy(message) },
         };

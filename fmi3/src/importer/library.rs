@@ -1,7 +1,7 @@
 //! The FMI 3.0 Co-Simulation functions an importer calls, resolved once with libloading.
 
 use crate::types::*;
-use fmi2::importer::ImportError;
+use fmi_core::archive::ImportError;
 use std::path::Path;
 
 type Vrs = *const fmi3ValueReference;

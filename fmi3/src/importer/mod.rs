@@ -1,7 +1,8 @@
 //! Importer: load an FMI 3.0 Co-Simulation FMU (`.fmu` archive or unpacked folder) and drive it.
 //!
-//! The sibling of `fmi2::importer`, with which it shares the archive handling, the common
-//! description, the log records and the call errors. Used by the `airring` master (through
+//! The sibling of `fmi2::importer`: the archive handling, the call errors, the FMU states and the
+//! slave interface come from `fmi_core`; the common description and the log records are
+//! `fmi2::importer`'s. Used by the `airring` master (through
 //! `cosim`'s slave) and the tests. It answers intermediate updates with the master's input
 //! polynomials (`slave`), so FMI 3.0 FMUs take inputs within a step as FMI 2.0 ones do through
 //! input derivatives.
@@ -14,9 +15,8 @@ pub use description::{parse, Fmi3Extras};
 pub use library::Api;
 pub use slave::{FmuState, Slave};
 
-use fmi2::importer::{
-    folder_of, unpack_unless_folder, ImportError, LogHandler, ModelDescription, UnpackedDir,
-};
+use fmi2::importer::{LogHandler, ModelDescription};
+use fmi_core::archive::{folder_of, unpack_unless_folder, ImportError, UnpackedDir};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
@@ -43,7 +43,7 @@ impl Fmu {
         Self::from_unpacked(path, unpacked)
     }
 
-    /// An FMU already unpacked (by `fmi2::importer::unpack`, e.g. to read its version first), or
+    /// An FMU already unpacked (by `fmi_core::archive::unpack`, e.g. to read its version first), or
     /// the folder `path` itself when `unpacked` is `None`.
     pub fn from_unpacked(path: &Path, unpacked: Option<UnpackedDir>) -> Result<Fmu, ImportError> {
         let dir = folder_of(path, unpacked.as_ref());

@@ -9,9 +9,11 @@
 
 use super::library::Api;
 use crate::types::*;
-use fmi2::importer::{check, lossy, CallError, ImportError, LogHandler, LogRecord};
+use fmi2::importer::{lossy, LogHandler, LogRecord};
 use fmi2::MAX_INPUT_DERIVATIVE_ORDER;
+use fmi_core::archive::ImportError;
 use fmi_core::Status;
+use fmi_core::{check, CallError};
 use std::cell::{Cell, RefCell};
 use std::ffi::{c_char, c_void, CString};
 use std::path::Path;
@@ -78,6 +80,7 @@ unsafe extern "C" fn log_message(
         let record = LogRecord {
             instance: env.name.clone(),
             status: Status::from_raw(status).unwrap_or(Status::Fatal),
+            standard: "fmi3",
             // SAFETY: strings from the FMU, valid for this call.
             category: unsafe { lossy(category) },
             message: unsafe { lossy(message) },

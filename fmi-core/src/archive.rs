@@ -1,8 +1,36 @@
-//! Unpacking `.fmu` archives into fresh temporary folders.
+//! Unpacking `.fmu` archives (either standard: the same zip layout) into fresh temporary folders,
+//! and the importers' load error.
 
-use super::ImportError;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+
+#[derive(Debug)]
+pub struct ImportError(pub String);
+
+impl std::fmt::Display for ImportError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for ImportError {}
+
+/// An FMU's folder: `path` itself when it is an unpacked FMU, else a fresh temporary folder the
+/// archive is unpacked into (removed when the guard is dropped). Shared by both importers.
+pub fn unpack_unless_folder(path: &Path) -> Result<(Option<UnpackedDir>, PathBuf), ImportError> {
+    let unpacked = if path.is_dir() {
+        None
+    } else {
+        Some(unpack(path)?)
+    };
+    let dir = folder_of(path, unpacked.as_ref());
+    Ok((unpacked, dir))
+}
+
+/// The folder an FMU lives in: its unpacked copy, or `path` itself.
+pub fn folder_of(path: &Path, unpacked: Option<&UnpackedDir>) -> PathBuf {
+    unpacked.map_or_else(|| path.to_path_buf(), |u| u.path().to_path_buf())
+}
 
 static COUNTER: AtomicU64 = AtomicU64::new(0);
 
