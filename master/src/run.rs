@@ -200,6 +200,12 @@ impl Observer for Rows {
     }
 }
 
+/// Set once the run loop has returned (completed, interrupted or failed): a stop signal from
+/// then on stops nothing, and no checkpoint is written for it; the command's signal handler
+/// says so instead of announcing one.
+pub static RUN_LOOP_ENDED: std::sync::atomic::AtomicBool =
+    std::sync::atomic::AtomicBool::new(false);
+
 /// Runs `system_path` into `opts.out_dir` (copying the system file there), or resumes from the
 /// checkpoint in `opts.out_dir` when `resume` is set; writes summary.json (and, for a run-up,
 /// the classification and plots) however the run ended.
@@ -239,6 +245,7 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
         &mut [&mut guard, &mut csv, &mut rows, &mut progress],
     )
     .map_err(|e| e.to_string())?;
+    RUN_LOOP_ENDED.store(true, std::sync::atomic::Ordering::Relaxed);
     let recorded = &rows.columns;
     // A failed Parquet write is reported like a failed run, but summary.json is still written.
     if opts.parquet {

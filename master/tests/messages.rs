@@ -117,3 +117,51 @@ fn tiny_and_huge_numbers_are_printed_with_an_exponent() {
     assert!(!has_long_number(&err), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A stop signal that arrives after the last macro step (while the figures are drawn) does not
+/// announce a checkpoint: none is written, and the message says the run has ended. The signal
+/// is sent once summary.json holds the class, which is written before the figures; where the
+/// run is over before the test sees that (a very fast machine), it tries a longer run.
+#[test]
+fn a_stop_signal_after_the_last_macro_step_announces_no_checkpoint() {
+    for (attempt, stop) in ["0.02", "0.05", "0.1"].iter().enumerate() {
+        let dir = common::tmp("messages", &format!("late-signal-{attempt}"));
+        let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_airring"))
+            .args(["runup", "--stop", stop, "--mesh", "8x2", "--quiet", "--out"])
+            .arg(&dir)
+            .current_dir(common::root())
+            .stderr(std::process::Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut signalled = false;
+        while child.try_wait().unwrap().is_none() {
+            let classified = std::fs::read_to_string(dir.join("summary.json"))
+                .ok()
+                .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+                .is_some_and(|s| s["classification"].is_string());
+            if classified {
+                // SAFETY: signals our own child process.
+                unsafe { libc::kill(child.id() as i32, libc::SIGINT) };
+                signalled = true;
+                break;
+            }
+            std::thread::sleep(std::time::Duration::from_millis(1));
+        }
+        let out = child.wait_with_output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        if !signalled || !err.contains("stop signal") {
+            let _ = std::fs::remove_dir_all(&dir);
+            continue;
+        }
+        assert!(
+            err.contains("after the run's last macro step")
+                && !err.contains("checkpoint and summary are written"),
+            "{err}"
+        );
+        assert!(!dir.join("checkpoint").exists());
+        assert!(out.status.success(), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
+        return;
+    }
+    eprintln!("SKIPPED: every run ended before its summary could be seen");
+}

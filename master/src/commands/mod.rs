@@ -87,11 +87,19 @@ pub fn stop_flag() -> Arc<AtomicBool> {
             std::process::exit(130);
         }
         // Ctrl-C, and (ctrlc's `termination` feature) SIGTERM and SIGHUP: a batch system's time
-        // limit stops a run the same way, leaving a checkpoint to resume from.
-        eprintln!(
-            "\nstop signal: stopping at the next macro step (a run that has not reached its stop \
-             time writes its checkpoint and summary)"
-        );
+        // limit stops a run the same way, leaving a checkpoint to resume from. After the last
+        // macro step there is nothing left to stop and no checkpoint is written.
+        if master::run::RUN_LOOP_ENDED.load(Ordering::Relaxed) {
+            eprintln!(
+                "\nstop signal after the run's last macro step: the run has ended (no checkpoint \
+                 is written); its summary and figures are being written"
+            );
+        } else {
+            eprintln!(
+                "\nstop signal: stopping at the next macro step (checkpoint and summary are \
+                 written)"
+            );
+        }
     });
     flag
 }
