@@ -10,6 +10,104 @@ use crate::summary::RunSummary;
 use cosim::observer::{Observer, ObserverError, RunStart};
 use std::path::{Path, PathBuf};
 
+/// Why an output folder is refused; the text says what to do instead.
+#[derive(Clone, Debug, PartialEq)]
+pub enum FolderError {
+    /// The path exists and is not a folder.
+    NotAFolder { path: PathBuf },
+    /// A sweep would write into a run's folder.
+    HoldsRun { path: PathBuf },
+    /// A run would write into a sweep's folder.
+    HoldsSweep { path: PathBuf },
+    /// A run is there already (and no --overwrite): its summary's status ("no summary" without
+    /// one), and whether it can be resumed (it did not complete and left a checkpoint).
+    RunExists {
+        path: PathBuf,
+        status: String,
+        resumable: bool,
+    },
+    /// A live process holds the run lock (pid and host as the lock names them; an empty lock
+    /// still being written names neither).
+    InProgress {
+        path: PathBuf,
+        pid: Option<i32>,
+        host: String,
+        lock: PathBuf,
+    },
+    /// Two processes took turns at the lock and neither got it.
+    LockContended { lock: PathBuf },
+    /// The folder or the lock could not be created or written.
+    Io { path: PathBuf, message: String },
+}
+
+impl std::fmt::Display for FolderError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FolderError::NotAFolder { path } => {
+                write!(f, "{}: exists and is not a folder", path.display())
+            }
+            FolderError::HoldsRun { path } => write!(
+                f,
+                "{} holds a run (its system.toml, summary.json, ...): a sweep writes its table \
+                 and report into a folder of its own; choose another --out",
+                path.display()
+            ),
+            FolderError::HoldsSweep { path } => write!(
+                f,
+                "{} holds a sweep (study.toml, study.csv): a run writes into a folder of its \
+                 own; choose another --out",
+                path.display()
+            ),
+            FolderError::RunExists {
+                path,
+                status,
+                resumable,
+            } => {
+                let resume = if *resumable {
+                    format!(", resume it with `airring resume {}`", path.display())
+                } else {
+                    String::new()
+                };
+                write!(
+                    f,
+                    "{} holds a run already ({status}); choose another --out{resume}, or pass \
+                     --overwrite to replace it",
+                    path.display()
+                )
+            }
+            FolderError::InProgress {
+                path,
+                pid,
+                host,
+                lock,
+            } => write!(
+                f,
+                "{}: a run is in progress here (process {} on {}); wait for it to end or stop it \
+                 first (if that process is gone, remove {})",
+                path.display(),
+                pid.map_or("?".into(), |p| p.to_string()),
+                if host.is_empty() { "?" } else { host },
+                lock.display()
+            ),
+            FolderError::LockContended { lock } => write!(
+                f,
+                "{}: could not take the run lock (another run starting at the same time?)",
+                lock.display()
+            ),
+            FolderError::Io { path, message } => write!(f, "{}: {message}", path.display()),
+        }
+    }
+}
+
+impl std::error::Error for FolderError {}
+
+/// The commands report errors as text.
+impl From<FolderError> for String {
+    fn from(e: FolderError) -> Self {
+        e.to_string()
+    }
+}
+
 /// Files whose presence marks a folder as a run folder.
 const RUN_FILES: &[&str] = &[
     "system.toml",
@@ -37,32 +135,24 @@ pub fn holds_sweep(dir: &Path) -> bool {
 
 /// Checks that a sweep (or a merge of sweeps) may write its table, maps and report into `dir`:
 /// not a run's folder, whose report.html and maps it would replace.
-pub fn check_sweep_out(dir: &Path) -> Result<(), String> {
+pub fn check_sweep_out(dir: &Path) -> Result<(), FolderError> {
     if dir.exists() && !dir.is_dir() {
-        return Err(format!("{}: exists and is not a folder", dir.display()));
+        return Err(FolderError::NotAFolder { path: dir.into() });
     }
     if holds_run(dir) {
-        return Err(format!(
-            "{} holds a run (its system.toml, summary.json, ...): a sweep writes its table and \
-             report into a folder of its own; choose another --out",
-            dir.display()
-        ));
+        return Err(FolderError::HoldsRun { path: dir.into() });
     }
     Ok(())
 }
 
 /// Checks that a new run may write into `dir`: it is new, empty of runs, or `overwrite` is set;
 /// never a sweep's folder (its report would be replaced, its runs are in `runs/`).
-pub fn check_new_run(dir: &Path, overwrite: bool) -> Result<(), String> {
+pub fn check_new_run(dir: &Path, overwrite: bool) -> Result<(), FolderError> {
     if dir.exists() && !dir.is_dir() {
-        return Err(format!("{}: exists and is not a folder", dir.display()));
+        return Err(FolderError::NotAFolder { path: dir.into() });
     }
     if holds_sweep(dir) {
-        return Err(format!(
-            "{} holds a sweep (study.toml, study.csv): a run writes into a folder of its own; \
-             choose another --out",
-            dir.display()
-        ));
+        return Err(FolderError::HoldsSweep { path: dir.into() });
     }
     if overwrite || !holds_run(dir) {
         return Ok(());
@@ -75,16 +165,11 @@ pub fn check_new_run(dir: &Path, overwrite: bool) -> Result<(), String> {
     // Resuming is offered only where there is something to resume: a checkpoint of a run that
     // did not complete.
     let completed = summary.is_some_and(|s| s.status == crate::summary::RunStatus::Completed);
-    let resume = if !completed && dir.join("checkpoint").exists() {
-        format!(", resume it with `airring resume {}`", dir.display())
-    } else {
-        String::new()
-    };
-    Err(format!(
-        "{} holds a run already ({status}); choose another --out{resume}, or pass --overwrite to \
-         replace it",
-        dir.display(),
-    ))
+    Err(FolderError::RunExists {
+        path: dir.into(),
+        status,
+        resumable: !completed && dir.join("checkpoint").exists(),
+    })
 }
 
 /// The file that marks a folder a run is writing into (see [`RunLock`]).
@@ -101,8 +186,12 @@ pub struct RunLock {
 
 impl RunLock {
     /// Creates `dir` if needed and takes its lock.
-    pub fn acquire(dir: &Path) -> Result<RunLock, String> {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    pub fn acquire(dir: &Path) -> Result<RunLock, FolderError> {
+        let io = |path: &Path, e: std::io::Error| FolderError::Io {
+            path: path.into(),
+            message: e.to_string(),
+        };
+        std::fs::create_dir_all(dir).map_err(|e| io(dir, e))?;
         let path = dir.join(LOCK_FILE);
         let me = format!("{} {}\n", std::process::id(), host_name());
         for _ in 0..2 {
@@ -113,8 +202,7 @@ impl RunLock {
             {
                 Ok(mut f) => {
                     use std::io::Write;
-                    f.write_all(me.as_bytes())
-                        .map_err(|e| format!("{}: {e}", path.display()))?;
+                    f.write_all(me.as_bytes()).map_err(|e| io(&path, e))?;
                     return Ok(RunLock { path });
                 }
                 Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
@@ -124,13 +212,10 @@ impl RunLock {
                     // Left by a run that was killed: taken over.
                     let _ = std::fs::remove_file(&path);
                 }
-                Err(e) => return Err(format!("{}: {e}", path.display())),
+                Err(e) => return Err(io(&path, e)),
             }
         }
-        Err(format!(
-            "{}: could not take the run lock (another run starting at the same time?)",
-            path.display()
-        ))
+        Err(FolderError::LockContended { lock: path })
     }
 }
 
@@ -147,19 +232,13 @@ struct Holder {
 }
 
 impl Holder {
-    fn refusal(&self, dir: &Path, lock: &Path) -> String {
-        format!(
-            "{}: a run is in progress here (process {} on {}); wait for it to end or stop it \
-             first (if that process is gone, remove {})",
-            dir.display(),
-            self.pid.map_or("?".into(), |p| p.to_string()),
-            if self.host.is_empty() {
-                "?"
-            } else {
-                &self.host
-            },
-            lock.display()
-        )
+    fn refusal(&self, dir: &Path, lock: &Path) -> FolderError {
+        FolderError::InProgress {
+            path: dir.into(),
+            pid: self.pid,
+            host: self.host.clone(),
+            lock: lock.into(),
+        }
     }
 }
 
@@ -191,7 +270,7 @@ fn live_holder(path: &Path) -> Option<Holder> {
 
 /// Refuses `dir` while a live process holds its run lock (checked before anything else is said
 /// of the folder: a run without a checkpoint that is still going is not a killed one).
-pub fn check_not_in_progress(dir: &Path) -> Result<(), String> {
+pub fn check_not_in_progress(dir: &Path) -> Result<(), FolderError> {
     let path = dir.join(LOCK_FILE);
     match live_holder(&path) {
         Some(h) => Err(h.refusal(dir, &path)),
@@ -425,7 +504,7 @@ mod tests {
         std::fs::write(dir.join("study.csv"), "").unwrap();
         for overwrite in [false, true] {
             let e = check_new_run(&dir, overwrite).unwrap_err();
-            assert!(e.contains("holds a sweep (study.toml, study.csv)"), "{e}");
+            assert_eq!(e, FolderError::HoldsSweep { path: dir.clone() });
         }
         assert!(
             check_sweep_out(&dir).is_ok(),
@@ -434,7 +513,7 @@ mod tests {
         std::fs::remove_file(dir.join("study.csv")).unwrap();
         std::fs::write(dir.join("summary.json"), "{}").unwrap();
         let e = check_sweep_out(&dir).unwrap_err();
-        assert!(e.contains("holds a run"), "{e}");
+        assert_eq!(e, FolderError::HoldsRun { path: dir.clone() });
         // Resuming is offered for a run that did not complete and left a checkpoint, only.
         let mut s = RunSummary {
             status: crate::summary::RunStatus::Completed,
@@ -442,18 +521,26 @@ mod tests {
         };
         s.write(&dir).unwrap();
         std::fs::create_dir_all(dir.join("checkpoint")).unwrap();
-        let e = check_new_run(&dir, false).unwrap_err();
-        assert!(
-            e.contains("(status completed)") && !e.contains("resume"),
-            "{e}"
+        let exists = |status: &str, resumable| FolderError::RunExists {
+            path: dir.clone(),
+            status: status.into(),
+            resumable,
+        };
+        assert_eq!(
+            check_new_run(&dir, false).unwrap_err(),
+            exists("status completed", false)
         );
         s.status = crate::summary::RunStatus::Interrupted;
         s.write(&dir).unwrap();
-        let e = check_new_run(&dir, false).unwrap_err();
-        assert!(e.contains("resume it with `airring resume"), "{e}");
+        assert_eq!(
+            check_new_run(&dir, false).unwrap_err(),
+            exists("status interrupted", true)
+        );
         std::fs::remove_dir_all(dir.join("checkpoint")).unwrap();
-        let e = check_new_run(&dir, false).unwrap_err();
-        assert!(!e.contains("resume"), "{e}");
+        assert_eq!(
+            check_new_run(&dir, false).unwrap_err(),
+            exists("status interrupted", false)
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 
@@ -466,13 +553,15 @@ mod tests {
         let lock = RunLock::acquire(&dir).unwrap();
         let held = std::fs::read_to_string(dir.join(LOCK_FILE)).unwrap();
         assert_eq!(held, format!("{} {}\n", std::process::id(), host_name()));
-        let e = RunLock::acquire(&dir).err().unwrap();
-        assert!(
-            e.contains(&format!(
-                "a run is in progress here (process {} on",
-                std::process::id()
-            )),
-            "{e}"
+        let held_by = |pid: Option<i32>, host: &str| FolderError::InProgress {
+            path: dir.clone(),
+            pid,
+            host: host.into(),
+            lock: dir.join(LOCK_FILE),
+        };
+        assert_eq!(
+            RunLock::acquire(&dir).err().unwrap(),
+            held_by(Some(std::process::id() as i32), &host_name())
         );
         drop(lock);
         assert!(!dir.join(LOCK_FILE).exists(), "removed when the run ends");
@@ -484,16 +573,70 @@ mod tests {
         let lock = RunLock::acquire(&dir).expect("a killed run's lock is taken over");
         drop(lock);
         std::fs::write(dir.join(LOCK_FILE), format!("{gone} another-host\n")).unwrap();
-        let e = RunLock::acquire(&dir).err().unwrap();
-        assert!(e.contains("on another-host"), "{e}");
+        assert_eq!(
+            RunLock::acquire(&dir).err().unwrap(),
+            held_by(Some(gone as i32), "another-host")
+        );
         // An empty lock is one being written: respected while it is young.
         std::fs::write(dir.join(LOCK_FILE), "").unwrap();
-        let e = RunLock::acquire(&dir).err().unwrap();
-        assert!(
-            e.contains("a run is in progress here (process ? on ?)"),
-            "{e}"
-        );
+        assert_eq!(RunLock::acquire(&dir).err().unwrap(), held_by(None, ""));
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// The texts the commands print for each refusal, word for word.
+    #[test]
+    fn each_folder_refusal_reads_as_before() {
+        let path = PathBuf::from("runs/x");
+        let lock = path.join(LOCK_FILE);
+        let text = |e: FolderError| e.to_string();
+        assert_eq!(
+            text(FolderError::NotAFolder { path: path.clone() }),
+            "runs/x: exists and is not a folder"
+        );
+        assert_eq!(
+            text(FolderError::HoldsRun { path: path.clone() }),
+            "runs/x holds a run (its system.toml, summary.json, ...): a sweep writes its table \
+             and report into a folder of its own; choose another --out"
+        );
+        assert_eq!(
+            text(FolderError::HoldsSweep { path: path.clone() }),
+            "runs/x holds a sweep (study.toml, study.csv): a run writes into a folder of its \
+             own; choose another --out"
+        );
+        assert_eq!(
+            text(FolderError::RunExists {
+                path: path.clone(),
+                status: "status interrupted".into(),
+                resumable: true
+            }),
+            "runs/x holds a run already (status interrupted); choose another --out, resume it \
+             with `airring resume runs/x`, or pass --overwrite to replace it"
+        );
+        assert_eq!(
+            text(FolderError::InProgress {
+                path: path.clone(),
+                pid: Some(42),
+                host: "node7".into(),
+                lock: lock.clone()
+            }),
+            "runs/x: a run is in progress here (process 42 on node7); wait for it to end or \
+             stop it first (if that process is gone, remove runs/x/run.lock)"
+        );
+        assert_eq!(
+            text(FolderError::InProgress {
+                path,
+                pid: None,
+                host: String::new(),
+                lock: lock.clone()
+            }),
+            "runs/x: a run is in progress here (process ? on ?); wait for it to end or stop it \
+             first (if that process is gone, remove runs/x/run.lock)"
+        );
+        assert_eq!(
+            text(FolderError::LockContended { lock }),
+            "runs/x/run.lock: could not take the run lock (another run starting at the same \
+             time?)"
+        );
     }
 
     /// A run-up's error names what went wrong, not the generated file that is gone.
