@@ -96,9 +96,8 @@ pub fn write_whole_with(
         f.sync_all()
     });
     if let Err(e) = written.and_then(|()| std::fs::rename(&tmp, path)) {
-        if !std::fs::symlink_metadata(&tmp).is_ok_and(|m| m.is_dir()) {
-            let _ = std::fs::remove_file(&tmp);
-        }
+        // (A folder under that name stays: remove_file does not remove folders.)
+        let _ = std::fs::remove_file(&tmp);
         return Err(e);
     }
     if let Some(parent) = path.parent().filter(|p| !p.as_os_str().is_empty()) {

@@ -144,7 +144,7 @@ fn link_targets(text: &str) -> Vec<String> {
     out
 }
 
-/// A date such as 2026-12-04 in `line`.
+/// A date written YYYY-MM-DD in `line`.
 fn has_date(line: &str) -> bool {
     let b = line.as_bytes();
     b.windows(10).any(|w| {

@@ -5,8 +5,6 @@ pub mod parquet_file;
 
 use std::path::Path;
 
-pub use cosim::files::temporary_name;
-
 /// `cosim::files::write_whole` with the path in its error message.
 pub fn write_whole(path: &Path, bytes: &[u8]) -> Result<(), String> {
     cosim::files::write_whole(path, bytes).map_err(|e| format!("{}: {e}", path.display()))

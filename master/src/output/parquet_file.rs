@@ -63,16 +63,12 @@ pub fn write(path: &Path, columns: &[(String, String)], rows: &[Vec<f64>]) -> Re
             serde_json::Value::Object(units).to_string(),
         )]))
         .build();
-    // Written under a temporary name and renamed when whole: a full disk or a kill never leaves
-    // a truncated file under the final name.
-    let tmp = crate::output::temporary_name(path);
-    let file = cosim::files::create_replacing(&tmp).map_err(|e| err(&e))?;
-    let result = write_rows(file, schema, props, rows);
-    let result = result.and_then(|()| std::fs::rename(&tmp, path).map_err(|e| e.to_string()));
-    if result.is_err() {
-        let _ = std::fs::remove_file(&tmp);
-    }
-    result.map_err(|e| err(&e))
+    // Written whole or not at all (a temporary file renamed into place): a full disk or a kill
+    // never leaves a truncated file under the final name, and a link there is replaced.
+    cosim::files::write_whole_with(path, |f| {
+        write_rows(f.try_clone()?, schema, props, rows).map_err(std::io::Error::other)
+    })
+    .map_err(|e| err(&e))
 }
 
 fn write_rows(
@@ -99,8 +95,7 @@ fn write_rows(
         }
         rg.close().map_err(|e| err(&e))?;
     }
-    let file = w.into_inner().map_err(|e| err(&e))?;
-    file.sync_all().map_err(|e| err(&e))
+    w.into_inner().map(|_| ()).map_err(|e| err(&e))
 }
 
 #[cfg(test)]
