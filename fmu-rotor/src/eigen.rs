@@ -1,5 +1,5 @@
 //! Eigenvalues and eigenvectors of a small real non-symmetric matrix (the 16 x 16 state matrix
-//! of the lateral motion): balancing (`balance`, written out here), then faer's dense
+//! of the lateral motion): balancing (`balance`, from the `shaft` crate), then faer's dense
 //! eigendecomposition (Householder reduction to Hessenberg form, the real Schur form by Francis
 //! QR, eigenvectors by back-substitution in the Schur form).
 //!
@@ -16,56 +16,8 @@ pub type C64 = faer::c64;
 
 const NO_CONVERGENCE: &str = "QR eigenvalue iteration did not converge";
 
-/// Balances the row-major n x n matrix `a` in place by a diagonal similarity transform,
-/// a <- D^-1 a D, so that each row and its column have about the same 1-norm (off the diagonal);
-/// returns the diagonal of D. The EISPACK `balanc` iteration without its permutation step; the
-/// scale factors are powers of 2, so the transform is exact (no rounding) and the eigenvalues
-/// are those of the input; an eigenvector y of the balanced matrix is D^-1 x, x = D y.
-pub fn balance(n: usize, a: &mut [f64]) -> Vec<f64> {
-    assert_eq!(a.len(), n * n, "balance: a must be n x n");
-    const RADIX: f64 = 2.0;
-    const RADIX2: f64 = RADIX * RADIX;
-    let mut d = vec![1.0; n];
-    let mut done = false;
-    while !done {
-        done = true;
-        for i in 0..n {
-            let mut c = 0.0;
-            let mut r = 0.0;
-            for j in (0..n).filter(|&j| j != i) {
-                c += a[j * n + i].abs();
-                r += a[i * n + j].abs();
-            }
-            if c == 0.0 || r == 0.0 || !(c + r).is_finite() {
-                continue;
-            }
-            let s = c + r;
-            let mut f = 1.0;
-            let g = r / RADIX;
-            while c < g {
-                f *= RADIX;
-                c *= RADIX2;
-            }
-            let g = r * RADIX;
-            while c > g {
-                f /= RADIX;
-                c /= RADIX2;
-            }
-            if (c + r) / f < 0.95 * s {
-                done = false;
-                d[i] *= f;
-                let gi = 1.0 / f;
-                for j in 0..n {
-                    a[i * n + j] *= gi;
-                }
-                for j in 0..n {
-                    a[j * n + i] *= f;
-                }
-            }
-        }
-    }
-    d
-}
+/// Balancing of a state matrix (the `shaft` crate's, shared with the flexible rotor).
+pub use shaft::eigen::balance;
 
 fn view(n: usize, a: &[f64]) -> faer::MatRef<'_, f64> {
     faer::MatRef::from_row_major_slice(a, n, n)
@@ -89,31 +41,5 @@ pub fn eigenvalues(n: usize, a: &[f64]) -> Result<Vec<C64>, RotorError> {
 /// vector normalized so that its largest component (by modulus; the first of equal ones) is
 /// exactly 1.
 pub fn eigenpairs(n: usize, a: &[f64]) -> Result<Vec<(C64, Vec<C64>)>, RotorError> {
-    let mut b = a.to_vec();
-    let d = balance(n, &mut b);
-    let evd = view(n, &b)
-        .eigen()
-        .map_err(|_| RotorError::Singular(NO_CONVERGENCE))?;
-    let (s, u) = (evd.S().column_vector(), evd.U());
-    let mut out = Vec::with_capacity(n);
-    for j in 0..n {
-        let lam = s[j];
-        let mut v: Vec<C64> = u.col(j).iter().zip(&d).map(|(y, di)| y * di).collect();
-        let big = v.iter().copied().fold(C64::new(0.0, 0.0), |acc, z| {
-            if z.norm() > acc.norm() {
-                z
-            } else {
-                acc
-            }
-        });
-        let size = big.norm();
-        if !(size > 0.0 && size.is_finite() && lam.re.is_finite() && lam.im.is_finite()) {
-            return Err(RotorError::Singular("eigenvector"));
-        }
-        for z in v.iter_mut() {
-            *z /= big;
-        }
-        out.push((lam, v));
-    }
-    Ok(out)
+    shaft::eigen::eigenpairs(n, a).ok_or(RotorError::Singular(NO_CONVERGENCE))
 }

@@ -10,6 +10,7 @@ pub use runup_analysis as analysis;
 pub mod calm_steps;
 pub mod design;
 pub mod export_ssp;
+pub mod flexible;
 pub mod fmu_params;
 pub mod linear_cache;
 pub mod modal;

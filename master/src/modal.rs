@@ -94,30 +94,40 @@ pub fn modal(
         "campbell": table,
     });
     if let Some(dir) = out {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        crate::output::write_whole(
-            &dir.join("modal.json"),
-            serde_json::to_string_pretty(&v).unwrap().as_bytes(),
+        write_outputs(
+            dir,
+            &v,
+            "Campbell diagram (rotor on linear film springs, undamped)",
         )?;
-        let files = campbell(&v)
-            .save(dir, "campbell")
-            .map_err(|e| e.to_string())?;
-        println!(
-            "wrote {} and {}",
-            dir.join("modal.json").display(),
-            files
-                .iter()
-                .map(|f| f.display().to_string())
-                .collect::<Vec<_>>()
-                .join(", ")
-        );
     }
     Ok(v)
 }
 
-/// Campbell diagram of the undamped modes: one line per mode rank (sorted by frequency at each
-/// speed), each segment red for forward and blue for backward whirl at its end.
-fn campbell(v: &serde_json::Value) -> Chart {
+/// modal.json and the Campbell diagram (campbell.svg, .png) in `dir`.
+pub(crate) fn write_outputs(dir: &Path, v: &serde_json::Value, title: &str) -> Result<(), String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    crate::output::write_whole(
+        &dir.join("modal.json"),
+        serde_json::to_string_pretty(v).unwrap().as_bytes(),
+    )?;
+    let files = campbell(v, title)
+        .save(dir, "campbell")
+        .map_err(|e| e.to_string())?;
+    println!(
+        "wrote {} and {}",
+        dir.join("modal.json").display(),
+        files
+            .iter()
+            .map(|f| f.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", ")
+    );
+    Ok(())
+}
+
+/// Campbell diagram: one line per mode rank (sorted by frequency at each speed), each segment
+/// red for forward and blue for backward whirl at its end.
+fn campbell(v: &serde_json::Value, title: &str) -> Chart {
     let table = v["campbell"].as_array().cloned().unwrap_or_default();
     let speed = |row: &serde_json::Value| row["speed_hz"].as_f64().unwrap_or(0.0);
     let freqs = |row: &serde_json::Value| -> Vec<(f64, bool)> {
@@ -147,7 +157,7 @@ fn campbell(v: &serde_json::Value) -> Chart {
     let mut c = Chart::new(
         w,
         h,
-        "Campbell diagram (rotor on linear film springs, undamped)",
+        title,
         "rotor speed [Hz]",
         "eigenfrequency [Hz]",
         (s_min - pad, s_max + pad),
@@ -233,7 +243,7 @@ mod tests {
                 {"freq_hz": 420.0 + 0.05 * s, "whirl": "forward"}]})
         };
         let v = serde_json::json!({"campbell": [row(100.0), row(1000.0), row(2000.0)]});
-        let svg = campbell(&v).to_svg().unwrap();
+        let svg = campbell(&v, "Campbell diagram").to_svg().unwrap();
         let doc = roxmltree::Document::parse(&svg).unwrap();
         let series: Vec<_> = doc
             .descendants()

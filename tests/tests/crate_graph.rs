@@ -205,3 +205,28 @@ fn the_fmi_core_knows_no_standard_and_both_layers_share_it() {
         );
     }
 }
+
+/// The flexible-rotor crate is physics below the rotor FMU: it knows no FMI, no air film, no
+/// co-simulation and not the application; the rotor and the application link it.
+#[test]
+fn the_shaft_crate_knows_no_fmi_and_no_air_film() {
+    let g = graph();
+    let shaft = closure(&g, "shaft");
+    for forbidden in [
+        "fmi-core",
+        "fmi2",
+        "fmi3",
+        "cosim",
+        "fmu-rotor",
+        "fmu-airfilm",
+        "master",
+    ] {
+        assert!(!shaft.contains(forbidden), "shaft links {forbidden}");
+    }
+    for user in ["fmu-rotor", "master"] {
+        assert!(
+            closure(&g, user).contains("shaft"),
+            "{user} does not link shaft"
+        );
+    }
+}

@@ -53,7 +53,7 @@ fn venv_python() -> Result<PathBuf, String> {
         && Command::new(&py)
             .args([
                 "-c",
-                "import fmpy, pytest, numpy, libcosimpy, importlib.metadata as m; m.version('ecospy')",
+                "import fmpy, pytest, numpy, libcosimpy, importlib.metadata as m; m.version('ecospy'); assert m.version('ross-rotordynamics') == '2.3.0'",
             ])
             .status()
             .map(|s| s.success())
