@@ -2,8 +2,9 @@
 //! from a ROSS rotor file: its modes at each speed (damped, gyroscopic), critical speeds and the
 //! response to an imbalance, printed and written to modal.json with the Campbell diagram.
 
+use crate::modal::RingFlags;
 use shaft::modal::{critical_speeds, modes, unbalance_response, Whirl};
-use shaft::ShaftModel;
+use shaft::{Ring, ShaftModel};
 use std::f64::consts::TAU;
 use std::path::Path;
 
@@ -28,11 +29,54 @@ fn whirl_name(w: Whirl) -> &'static str {
     }
 }
 
+/// Air ring bearings (rings on their mounts, isotropic film springs) at `nodes`, replacing the
+/// model's linear bearings at those nodes; returns what was replaced, for the notes.
+pub fn add_rings(
+    model: &mut ShaftModel,
+    nodes: &[usize],
+    f: &RingFlags,
+) -> Result<Vec<String>, String> {
+    f.check()?;
+    let mut notes = vec![];
+    for (i, &node) in nodes.iter().enumerate() {
+        if node >= model.n_nodes() {
+            return Err(format!(
+                "--bearing-nodes {node} is off the shaft (nodes 0 to {})",
+                model.n_nodes() - 1
+            ));
+        }
+        if nodes[..i].contains(&node) {
+            return Err(format!(
+                "--bearing-nodes names node {node} twice: each bearing needs a node of its own"
+            ));
+        }
+        let before = model.supports.len();
+        model.supports.retain(|s| s.node != node);
+        if model.supports.len() < before {
+            notes.push(format!(
+                "the file's bearing at node {node} is replaced by an air ring bearing"
+            ));
+        }
+        let k = f.film_n_per_mm * 1e3;
+        model.rings.push(Ring {
+            node,
+            mass_kg: f.m_r_g * 1e-3,
+            mount_k_n_m: f.c_n_per_mm * 1e3,
+            mount_c_n_s_m: f.d_n_s_per_m,
+            film_k_n_m: [[k, 0.0], [0.0, k]],
+            film_c_n_s_m: [[0.0; 2]; 2],
+            tag: format!("ring at node {node}"),
+        });
+    }
+    Ok(notes)
+}
+
 /// Modes at each speed, the first `n_critical` critical speeds, the unbalance response at each
-/// speed; returns modal.json's value.
+/// speed; returns modal.json's value. `rings`: air ring bearings at these nodes.
 pub fn modal(
     rotor: &Path,
     speeds_hz: &[f64],
+    rings: Option<(&[usize], RingFlags)>,
     n_critical: usize,
     unbalance: Option<Unbalance>,
     out: Option<&Path>,
@@ -47,7 +91,10 @@ pub fn modal(
             crate::runup::fmt_number(*f)
         ));
     }
-    let (model, notes) = read_rotor(rotor)?;
+    let (mut model, mut notes) = read_rotor(rotor)?;
+    if let Some((nodes, flags)) = rings {
+        notes.extend(add_rings(&mut model, nodes, &flags)?);
+    }
     if let Some(u) = unbalance {
         if u.node >= model.n_nodes() {
             return Err(format!(
@@ -69,14 +116,15 @@ pub fn modal(
     let z = model.node_z_m();
     println!(
         "flexible rotor {}: {} shaft elements, {} nodes, {:.1} mm long, {:.4} kg; {} disks, {} \
-         bearings (linear, from the file)",
+         linear bearings, {} air ring bearings (linear film springs)",
         rotor.display(),
         model.elements.len(),
         model.n_nodes(),
         1e3 * z.last().copied().unwrap_or(0.0),
         model.mass_kg(),
         model.disks.len(),
-        model.supports.len()
+        model.supports.len(),
+        model.rings.len()
     );
     for n in &notes {
         println!("note: {n}");
@@ -228,7 +276,7 @@ mod tests {
             g_mm: 5.0,
             phase_deg: 0.0,
         };
-        let v = modal(&f, &[0.0, 500.0], 2, Some(u), Some(&d.join("out"))).unwrap();
+        let v = modal(&f, &[0.0, 500.0], None, 2, Some(u), Some(&d.join("out"))).unwrap();
         assert_eq!(v["campbell"].as_array().unwrap().len(), 2);
         assert_eq!(v["critical_speeds"].as_array().unwrap().len(), 2);
         let at500 = &v["unbalance"]["response"][1]["nodes"][1];
@@ -246,21 +294,120 @@ mod tests {
             g_mm: 5.0,
             phase_deg: 0.0,
         };
-        let e = modal(&f, &[100.0], 2, Some(off), None).unwrap_err();
+        let e = modal(&f, &[100.0], None, 2, Some(off), None).unwrap_err();
         assert!(
             e.contains("--unbalance-node 3") && e.contains("0 to 2"),
             "{e}"
         );
         let zero = Unbalance { g_mm: 0.0, ..off };
-        let e = modal(&f, &[100.0], 2, Some(Unbalance { node: 1, ..zero }), None).unwrap_err();
+        let e = modal(
+            &f,
+            &[100.0],
+            None,
+            2,
+            Some(Unbalance { node: 1, ..zero }),
+            None,
+        )
+        .unwrap_err();
         assert!(e.contains("--unbalance 0 g mm"), "{e}");
-        let e = modal(&d.join("missing.toml"), &[100.0], 2, None, None).unwrap_err();
+        let e = modal(&d.join("missing.toml"), &[100.0], None, 2, None, None).unwrap_err();
         assert!(
             e.contains("missing.toml") && e.contains("cannot be read"),
             "{e}"
         );
-        let e = modal(&f, &[-5.0], 2, None, None).unwrap_err();
+        let e = modal(&f, &[-5.0], None, 2, None, None).unwrap_err();
         assert!(e.starts_with("--speed -5 Hz"), "{e}");
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    /// The paper's rigid rotor as a flexible one: a massless, very stiff two-element shaft
+    /// through the turbine journal, the centre of mass and the compressor journal, the rotor's
+    /// mass and inertias as a disk at the centre of mass, air ring bearings at the journals.
+    fn paper_as_a_stiff_shaft(p: &fmu_rotor::RotorParams, f: &RingFlags) -> ShaftModel {
+        let mut steel = shaft::Material::steel();
+        steel.rho_kg_m3 = 1e-6;
+        steel.e_pa *= 1e5;
+        steel.g_pa *= 1e5;
+        let mut model = ShaftModel {
+            elements: vec![
+                shaft::ShaftElement::cylinder(p.z_cm_m - p.z_jt_m, 0.0, 0.02, steel.clone()),
+                shaft::ShaftElement::cylinder(p.z_jc_m - p.z_cm_m, 0.0, 0.02, steel),
+            ],
+            disks: vec![shaft::Disk {
+                node: 1,
+                mass_kg: p.m_kg,
+                id_kg_m2: p.j_t_kg_m2,
+                ip_kg_m2: p.j_p_kg_m2,
+                tag: "rotor".into(),
+            }],
+            ..Default::default()
+        };
+        add_rings(&mut model, &[2, 0], f).unwrap();
+        model
+    }
+
+    /// The rigid limit: `airring modal`'s rigid rotor and the stiff flexible one give the same
+    /// eight modes at 1000 Hz within 0.1 Hz, whirl directions alike.
+    #[test]
+    fn a_stiff_shaft_with_the_papers_mass_properties_is_the_rigid_rotor() {
+        let f = RingFlags {
+            c_n_per_mm: 500.0,
+            d_n_s_per_m: 50.0,
+            film_n_per_mm: 2000.0,
+            m_r_g: 50.0,
+        };
+        let mut p = fmu_rotor::RotorParams::paper();
+        (p.c_c_n_m, p.c_t_n_m) = (f.c_n_per_mm * 1e3, f.c_n_per_mm * 1e3);
+        (p.d_c_n_s_m, p.d_t_n_s_m) = (f.d_n_s_per_m, f.d_n_s_per_m);
+        (p.m_r_c_kg, p.m_r_t_kg) = (f.m_r_g * 1e-3, f.m_r_g * 1e-3);
+        let film = fmu_rotor::FilmCoefficients::isotropic(f.film_n_per_mm * 1e3, 0.0);
+        let omega = 1000.0 * TAU;
+        let rigid = fmu_rotor::linear::modes(&fmu_rotor::linear::lateral_matrices(
+            &p,
+            omega,
+            &[film, film],
+        ))
+        .unwrap();
+        let flexible = modes(&paper_as_a_stiff_shaft(&p, &f), omega).unwrap();
+        assert_eq!(rigid.len(), 8);
+        for (r, x) in rigid.iter().zip(&flexible) {
+            let fx = x.wd_rad_s / TAU;
+            assert!((r.freq_hz - fx).abs() < 0.1, "{} Hz vs {fx} Hz", r.freq_hz);
+            let rigid_forward = r.whirl == fmu_rotor::linear::Whirl::Forward;
+            assert_eq!(rigid_forward, x.whirl == Whirl::Forward, "{} Hz", r.freq_hz);
+        }
+        // The shaft's own bending modes lie far above.
+        assert!(
+            flexible[8].wd_rad_s / TAU > 20_000.0,
+            "{}",
+            flexible[8].wd_rad_s / TAU
+        );
+    }
+
+    #[test]
+    fn air_ring_bearings_replace_the_files_bearings_and_need_nodes_of_their_own() {
+        let d = scratch("rings");
+        let (mut model, _) = read_rotor(&rotor_file(&d)).unwrap();
+        let f = RingFlags {
+            c_n_per_mm: 500.0,
+            d_n_s_per_m: 50.0,
+            film_n_per_mm: 2000.0,
+            m_r_g: 50.0,
+        };
+        let notes = add_rings(&mut model.clone(), &[0], &f).unwrap();
+        assert!(
+            notes[0].contains("node 0") && notes[0].contains("replaced"),
+            "{notes:?}"
+        );
+        let e = add_rings(&mut model.clone(), &[1, 1], &f).unwrap_err();
+        assert!(e.contains("node 1 twice"), "{e}");
+        let e = add_rings(&mut model, &[4], &f).unwrap_err();
+        assert!(
+            e.contains("--bearing-nodes 4") && e.contains("0 to 2"),
+            "{e}"
+        );
+        let e = add_rings(&mut model, &[1], &RingFlags { m_r_g: 0.0, ..f }).unwrap_err();
+        assert!(e.starts_with("--m-r = 0 g"), "{e}");
         let _ = std::fs::remove_dir_all(&d);
     }
 }

@@ -6,31 +6,56 @@ use fmu_rotor::linear::{lateral_matrices, modes, Whirl};
 use fmu_rotor::{FilmCoefficients, RotorParams};
 use std::path::Path;
 
+/// The air ring bearings of `airring modal`: ring mount, film springs, ring mass (flags' units).
+#[derive(Clone, Copy, Debug)]
+pub struct RingFlags {
+    pub c_n_per_mm: f64,
+    pub d_n_s_per_m: f64,
+    pub film_n_per_mm: f64,
+    pub m_r_g: f64,
+}
+
+impl RingFlags {
+    /// The flags, checked by name in their units before the rotor's own checks (which name its
+    /// parameters in SI: c_C = -5000). Without a mount stiffness the rotor and its rings float
+    /// free: rigid-body modes at 0 Hz whose nodes lie anywhere (5e12 mm was printed).
+    pub fn check(&self) -> Result<(), String> {
+        let RingFlags {
+            c_n_per_mm,
+            d_n_s_per_m,
+            film_n_per_mm,
+            m_r_g,
+        } = *self;
+        for (name, v, unit, zero_ok) in [
+            ("c", c_n_per_mm, "N/mm", false),
+            ("d", d_n_s_per_m, "N s/m", true),
+            ("m-r", m_r_g, "g", false),
+            ("film-stiffness", film_n_per_mm, "N/mm", false),
+        ] {
+            if !(v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0))) {
+                return Err(format!(
+                    "--{name} = {} {unit} must be a finite number {}",
+                    crate::runup::fmt_number(v),
+                    if zero_ok { ">= 0" } else { "> 0" }
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
 pub fn modal(
     speeds_hz: &[f64],
-    c_n_per_mm: f64,
-    d_n_s_per_m: f64,
-    film_n_per_mm: f64,
-    m_r_g: f64,
+    rings: &RingFlags,
     out: Option<&Path>,
 ) -> Result<serde_json::Value, String> {
-    // The flags, checked by name in their units before the rotor's own checks (which name its
-    // parameters in SI: c_C = -5000). Without a mount stiffness the rotor and its rings float
-    // free: rigid-body modes at 0 Hz whose nodes lie anywhere (5e12 mm was printed).
-    for (name, v, unit, zero_ok) in [
-        ("c", c_n_per_mm, "N/mm", false),
-        ("d", d_n_s_per_m, "N s/m", true),
-        ("m-r", m_r_g, "g", false),
-        ("film-stiffness", film_n_per_mm, "N/mm", false),
-    ] {
-        if !(v.is_finite() && (v > 0.0 || (zero_ok && v == 0.0))) {
-            return Err(format!(
-                "--{name} = {} {unit} must be a finite number {}",
-                crate::runup::fmt_number(v),
-                if zero_ok { ">= 0" } else { "> 0" }
-            ));
-        }
-    }
+    rings.check()?;
+    let RingFlags {
+        c_n_per_mm,
+        d_n_s_per_m,
+        film_n_per_mm,
+        m_r_g,
+    } = *rings;
     let top = crate::runup::MAX_SPEED_HZ;
     if let Some(f) = speeds_hz
         .iter()
@@ -196,12 +221,21 @@ fn campbell(v: &serde_json::Value, title: &str) -> Chart {
 mod tests {
     use super::*;
 
+    fn flags(c: f64, d: f64, film: f64, m_r: f64) -> RingFlags {
+        RingFlags {
+            c_n_per_mm: c,
+            d_n_s_per_m: d,
+            film_n_per_mm: film,
+            m_r_g: m_r,
+        }
+    }
+
     /// At standstill the modes come in pairs at one frequency (no gyroscopic splitting): no whirl
     /// direction (the solver's eigenvectors were labelled "forward" and "forward"); running, each
     /// pair splits into a backward and a forward mode.
     #[test]
     fn a_pair_at_one_frequency_has_no_whirl_direction() {
-        let v = modal(&[0.0, 500.0], 500.0, 0.0, 2000.0, 50.0, None).unwrap();
+        let v = modal(&[0.0, 500.0], &flags(500.0, 0.0, 2000.0, 50.0), None).unwrap();
         let whirls = |k: usize| -> Vec<String> {
             v["campbell"][k]["modes"]
                 .as_array()
@@ -293,7 +327,7 @@ mod tests {
             ),
         ] {
             let (speeds, c, d, film, m_r) = args;
-            let e = modal(&speeds, c, d, film, m_r, None).unwrap_err();
+            let e = modal(&speeds, &flags(c, d, film, m_r), None).unwrap_err();
             assert!(e.starts_with(why), "{e}");
         }
     }

@@ -14,7 +14,7 @@ pub mod ross;
 
 pub use element::{Material, ShaftElement, ShearCoefficient};
 pub use modal::{critical_speeds, modes, unbalance_response, CriticalSpeed, Mode, Whirl};
-pub use model::{Disk, Matrices, PointMass, ShaftModel, Support, DOF_PER_NODE};
+pub use model::{Disk, Matrices, PointMass, Ring, ShaftModel, Support, DOF_PER_NODE};
 
 use std::fmt;
 

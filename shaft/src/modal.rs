@@ -72,11 +72,10 @@ pub fn modes_of(mm: &Matrices, speed_rad_s: f64) -> Result<Vec<Mode>, ShaftError
             }
             // Forward whirl: x = cos, y = sin, i.e. Y = -i X, so Im(conj(X) Y) < 0 (summed over
             // the nodes, weighted by their amplitude).
-            let turn: f64 = (0..n / DOF_PER_NODE)
-                .map(|k| {
-                    let (x, y) = (shape[DOF_PER_NODE * k], shape[DOF_PER_NODE * k + 1]);
-                    (x.conj() * y).im
-                })
+            let turn: f64 = mm
+                .whirl_pairs
+                .iter()
+                .map(|&[x, y]| (shape[x].conj() * shape[y]).im)
                 .sum();
             Mode {
                 eigenvalue: l,
@@ -280,6 +279,7 @@ mod tests {
                     tag: format!("B{node}"),
                 })
                 .to_vec(),
+            rings: vec![],
         }
     }
 
@@ -358,6 +358,7 @@ mod tests {
                     tag: format!("B{node}"),
                 })
                 .to_vec(),
+            rings: vec![],
         };
         let rest = modes(&s, 0.0).unwrap();
         let fast = modes(&s, 3000.0).unwrap();

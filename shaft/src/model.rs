@@ -44,6 +44,21 @@ pub struct Support {
     pub tag: String,
 }
 
+/// An air ring bearing, linearized: the ring (a mass on its elastomer mount, stiffness and
+/// damping to the ground) coupled to the journal node by the air film's stiffness and damping.
+/// The film's force on the journal is -(K_f (r_J - r_R) + C_f (r_J' - r_R')), the ring feels the
+/// opposite. Two coordinates of its own (the ring's x, y).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Ring {
+    pub node: usize,
+    pub mass_kg: f64,
+    pub mount_k_n_m: f64,
+    pub mount_c_n_s_m: f64,
+    pub film_k_n_m: [[f64; 2]; 2],
+    pub film_c_n_s_m: [[f64; 2]; 2],
+    pub tag: String,
+}
+
 /// The rotor.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize, Default)]
 pub struct ShaftModel {
@@ -51,12 +66,16 @@ pub struct ShaftModel {
     pub disks: Vec<Disk>,
     pub point_masses: Vec<PointMass>,
     pub supports: Vec<Support>,
+    /// Air ring bearings (their rings' coordinates follow the shaft's, x and y per ring).
+    pub rings: Vec<Ring>,
 }
 
-/// Dense global matrices, row-major, n x n with n = 4 (elements + 1).
+/// Dense global matrices, row-major, n x n with n = 4 (elements + 1) + 2 rings.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Matrices {
     pub n: usize,
+    /// The (x, y) coordinate pairs of the shaft nodes: a mode's whirl direction is judged on them.
+    pub whirl_pairs: Vec<[usize; 2]>,
     pub m: Vec<f64>,
     pub k: Vec<f64>,
     pub c: Vec<f64>,
@@ -69,7 +88,12 @@ impl ShaftModel {
     }
 
     pub fn n_dof(&self) -> usize {
-        DOF_PER_NODE * self.n_nodes()
+        DOF_PER_NODE * self.n_nodes() + 2 * self.rings.len()
+    }
+
+    /// The first coordinate (x; y follows) of ring `r`.
+    pub fn ring_dof(&self, r: usize) -> usize {
+        DOF_PER_NODE * self.n_nodes() + 2 * r
     }
 
     /// Axial position of every node [m].
@@ -140,6 +164,33 @@ impl ShaftModel {
                 }
             }
         }
+        for r in &self.rings {
+            node_ok("ring", &r.tag, r.node)?;
+            if !(r.mass_kg.is_finite() && r.mass_kg > 0.0) {
+                return Err(ShaftError::Model(format!(
+                    "ring {:?}: mass = {} kg must be a finite number > 0",
+                    r.tag,
+                    bearing::num::Num(r.mass_kg)
+                )));
+            }
+            finite("ring", &r.tag, "mount stiffness", r.mount_k_n_m, true)?;
+            finite("ring", &r.tag, "mount damping", r.mount_c_n_s_m, true)?;
+            for v in r.film_k_n_m.iter().chain(&r.film_c_n_s_m).flatten() {
+                finite("ring", &r.tag, "film coefficient", *v, false)?;
+            }
+        }
+        if let Some(r) = self
+            .rings
+            .iter()
+            .enumerate()
+            .find(|(i, r)| self.rings[..*i].iter().any(|o| o.node == r.node))
+            .map(|(_, r)| r)
+        {
+            return Err(ShaftError::Model(format!(
+                "two bearings at node {}: each air ring bearing needs a node of its own",
+                r.node
+            )));
+        }
         Ok(())
     }
 
@@ -148,6 +199,9 @@ impl ShaftModel {
         let n = self.n_dof();
         let mut out = Matrices {
             n,
+            whirl_pairs: (0..self.n_nodes())
+                .map(|k| [DOF_PER_NODE * k, DOF_PER_NODE * k + 1])
+                .collect(),
             m: vec![0.0; n * n],
             k: vec![0.0; n * n],
             c: vec![0.0; n * n],
@@ -192,6 +246,23 @@ impl ShaftModel {
                 }
             }
         }
+        for (ri, r) in self.rings.iter().enumerate() {
+            let (j, q) = (DOF_PER_NODE * r.node, self.ring_dof(ri));
+            for a in 0..2 {
+                out.m[(q + a) * n + q + a] += r.mass_kg;
+                out.k[(q + a) * n + q + a] += r.mount_k_n_m;
+                out.c[(q + a) * n + q + a] += r.mount_c_n_s_m;
+                for b in 0..2 {
+                    // Film between journal (j) and ring (q): [[K, -K], [-K, K]].
+                    for (mat, f) in [(&mut out.k, r.film_k_n_m), (&mut out.c, r.film_c_n_s_m)] {
+                        mat[(j + a) * n + j + b] += f[a][b];
+                        mat[(j + a) * n + q + b] -= f[a][b];
+                        mat[(q + a) * n + j + b] -= f[a][b];
+                        mat[(q + a) * n + q + b] += f[a][b];
+                    }
+                }
+            }
+        }
         out
     }
 }
@@ -218,6 +289,7 @@ mod tests {
                 tag: "collar".into(),
             }],
             supports: vec![],
+            rings: vec![],
         }
     }
 

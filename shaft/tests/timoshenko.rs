@@ -168,8 +168,14 @@ fn without(mm: &Matrices, removed: &[usize]) -> Matrices {
         }
         out
     };
+    let index = |i: usize| keep.iter().position(|&k| k == i);
     Matrices {
         n,
+        whirl_pairs: mm
+            .whirl_pairs
+            .iter()
+            .filter_map(|&[x, y]| Some([index(x)?, index(y)?]))
+            .collect(),
         m: pick(&mm.m),
         k: pick(&mm.k),
         c: pick(&mm.c),
