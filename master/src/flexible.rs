@@ -3,6 +3,7 @@
 //! response to an imbalance, printed and written to modal.json with the Campbell diagram.
 
 use crate::modal::RingFlags;
+use crate::plot::{Anchor, Chart, Figure, Rgb, Role};
 use shaft::modal::{critical_speeds, modes, unbalance_response, Whirl};
 use shaft::{Ring, ShaftModel};
 use std::f64::consts::TAU;
@@ -228,10 +229,243 @@ pub fn modal(
         crate::modal::write_outputs(
             dir,
             &v,
-            "Campbell diagram (flexible rotor on linear bearings, damped frequencies)",
+            "Campbell diagram (flexible rotor, damped frequencies)",
         )?;
+        let files = write_figures(dir, &model, speeds_hz.first().copied().unwrap_or(0.0))?;
+        println!(
+            "wrote {}",
+            files
+                .iter()
+                .map(|f| f.display().to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
     }
     Ok(v)
+}
+
+/// The rotor to scale [mm]: the shaft's outline (outer and, dashed, inner diameters), disks as
+/// solid disks of their mass and inertias, bearings at their nodes (linear: grey; air ring: the
+/// ring in blue), and the node numbers.
+pub fn rotor_drawing(model: &ShaftModel) -> Chart {
+    let z = model.node_z_m();
+    let mm = |v: f64| 1e3 * v;
+    // A disk drawn as a solid cylinder: Ip = m r^2 / 2, Id = m (3 r^2 + w^2) / 12.
+    let disk_shape = |d: &shaft::Disk| -> (f64, f64) {
+        if d.mass_kg <= 0.0 {
+            return (0.0, 0.0);
+        }
+        let r = (2.0 * d.ip_kg_m2 / d.mass_kg).sqrt();
+        let w2 = 12.0 * d.id_kg_m2 / d.mass_kg - 3.0 * r * r;
+        (r, w2.max(0.0).sqrt())
+    };
+    let r_max = model
+        .elements
+        .iter()
+        .map(|e| 0.5 * e.od_left_m.max(e.od_right_m))
+        .chain(model.disks.iter().map(|d| disk_shape(d).0))
+        .fold(0.0, f64::max);
+    let length = *z.last().unwrap_or(&0.0);
+    // To scale: equal millimetres per pixel on both axes. The frame's size follows from the
+    // chart's margins (figures::chart: 78 px left label area + 8, 22 px right + the legend; 38 px
+    // top, 52 px x-label area + 8 bottom) and the spans from it.
+    let legend = ["shaft", "disk", "linear bearing", "air ring bearing"];
+    let legend_px = legend
+        .iter()
+        .map(|n| crate::plot::font::text_width_px(n, 13.0))
+        .fold(0.0, f64::max)
+        .ceil()
+        + 44.0;
+    let (width, height) = (900.0, 420.0);
+    let frame_w = width - 78.0 - 8.0 - 22.0 - legend_px;
+    let frame_h = height - 38.0 - 52.0 - 8.0;
+    let x_span = 1.04 * mm(length);
+    let y_half = (0.5 * x_span * frame_h / frame_w).max(1.4 * mm(r_max));
+    // Chart::new widens each range by 5 %; undo it so that the spans are the ones computed.
+    let shrink = |lo: f64, hi: f64| {
+        let pad = (hi - lo) * 0.05 / 1.1;
+        (lo + pad, hi - pad)
+    };
+    let mut c = Chart::new(
+        width as u32,
+        height as u32,
+        "Rotor (to scale)",
+        "axial position z [mm]",
+        "radius [mm]",
+        shrink(-0.02 * mm(length), 1.02 * mm(length)),
+        shrink(-y_half, y_half),
+    );
+    for sign in [1.0, -1.0] {
+        let outer: Vec<(f64, f64)> = model
+            .elements
+            .iter()
+            .zip(z.windows(2))
+            .flat_map(|(e, w)| {
+                [
+                    (mm(w[0]), sign * mm(e.od_left_m / 2.0)),
+                    (mm(w[1]), sign * mm(e.od_right_m / 2.0)),
+                ]
+            })
+            .collect();
+        c.line(outer, Rgb::BLACK, 1.4, false, Role::Series, "shaft");
+        for (e, w) in model.elements.iter().zip(z.windows(2)) {
+            if e.id_left_m > 0.0 || e.id_right_m > 0.0 {
+                c.line(
+                    [
+                        (mm(w[0]), sign * mm(e.id_left_m / 2.0)),
+                        (mm(w[1]), sign * mm(e.id_right_m / 2.0)),
+                    ],
+                    Rgb::BLACK,
+                    0.8,
+                    true,
+                    Role::Series,
+                    "bore",
+                );
+            }
+        }
+    }
+    // The shaft's end faces.
+    for (k, e) in [
+        (0, model.elements.first()),
+        (z.len() - 1, model.elements.last()),
+    ] {
+        if let Some(e) = e {
+            let r = if k == 0 { e.od_left_m } else { e.od_right_m } / 2.0;
+            c.line(
+                [(mm(z[k]), mm(r)), (mm(z[k]), -mm(r))],
+                Rgb::BLACK,
+                1.4,
+                false,
+                Role::Series,
+                "shaft",
+            );
+        }
+    }
+    for d in &model.disks {
+        let (r, w) = disk_shape(d);
+        let (z0, z1) = (mm(z[d.node] - w / 2.0), mm(z[d.node] + w / 2.0));
+        let r = mm(r);
+        c.line(
+            [(z0, -r), (z0, r), (z1, r), (z1, -r), (z0, -r)],
+            Rgb::RED,
+            1.4,
+            false,
+            Role::Series,
+            &format!("disk {}", d.tag),
+        );
+    }
+    let below = -1.25 * mm(r_max);
+    for s in &model.supports {
+        let zs = mm(z[s.node]);
+        c.line(
+            [(zs, below), (zs, below * 0.8)],
+            Rgb::GREY,
+            3.0,
+            false,
+            Role::Marker,
+            &format!("bearing {}", s.tag),
+        );
+    }
+    for r in &model.rings {
+        let zs = mm(z[r.node]);
+        c.line(
+            [(zs, below), (zs, below * 0.8)],
+            Rgb::BLUE,
+            3.0,
+            false,
+            Role::Marker,
+            &format!("air ring bearing {}", r.tag),
+        );
+    }
+    // Node numbers, thinned to at least 40 px apart (the plot spans about 700 px).
+    let px_per_mm = 700.0 / mm(length).max(1e-9);
+    let mut last = f64::NEG_INFINITY;
+    for (k, zk) in z.iter().enumerate() {
+        let x = mm(*zk);
+        if (x - last) * px_per_mm >= 40.0 || k + 1 == z.len() && (x - last) * px_per_mm >= 25.0 {
+            c.label(
+                (x, 1.25 * mm(r_max)),
+                (0, 0),
+                &k.to_string(),
+                Anchor::Middle,
+            );
+            last = x;
+        }
+    }
+    c.legend(&[
+        (legend[0], Rgb::BLACK),
+        (legend[1], Rgb::RED),
+        (legend[2], Rgb::GREY),
+        (legend[3], Rgb::BLUE),
+    ]);
+    c
+}
+
+/// Mode shapes along the shaft at one speed: each node's orbit size (semi-major axis), scaled so
+/// that the largest on the shaft is 1. Rings and tilts are left out: a ring mode shows as a
+/// shaft moving little at its bearing.
+pub fn mode_shapes(model: &ShaftModel, ms: &[shaft::Mode], speed_hz: f64, count: usize) -> Chart {
+    let z: Vec<f64> = model.node_z_m().iter().map(|v| 1e3 * v).collect();
+    let colours = [
+        Rgb::RED,
+        Rgb::BLUE,
+        Rgb::GREEN,
+        Rgb(255, 127, 14),
+        Rgb(148, 103, 189),
+        Rgb(140, 86, 75),
+    ];
+    let mut c = Chart::new(
+        900,
+        480,
+        &format!(
+            "Mode shapes at {} Hz (orbit size along the shaft)",
+            crate::runup::fmt_number(speed_hz)
+        ),
+        "axial position z [mm]",
+        "orbit semi-major axis [-]",
+        (z[0], *z.last().unwrap_or(&1.0)),
+        (0.0, 1.0),
+    );
+    let mut legend = vec![];
+    for (k, m) in ms.iter().take(count.min(colours.len())).enumerate() {
+        let size: Vec<f64> = (0..z.len())
+            .map(|n| {
+                let at = shaft::DOF_PER_NODE * n;
+                fmu_rotor::forced::semi_major_axis(&[m.shape[at], m.shape[at + 1]])
+            })
+            .collect();
+        let big = size.iter().copied().fold(0.0, f64::max).max(1e-300);
+        let pts: Vec<(f64, f64)> = z.iter().zip(&size).map(|(z, s)| (*z, s / big)).collect();
+        let name = format!(
+            "mode {}: {} Hz {}",
+            k + 1,
+            crate::runup::fmt_number((m.wd_rad_s / TAU * 10.0).round() / 10.0),
+            whirl_name(m.whirl)
+        );
+        c.line(pts, colours[k], 1.6, false, Role::Series, &name);
+        legend.push((name, colours[k]));
+    }
+    let entries: Vec<(&str, Rgb)> = legend.iter().map(|(n, c)| (n.as_str(), *c)).collect();
+    c.legend(&entries);
+    c
+}
+
+/// rotor.svg/png and modes.svg/png (at the first speed) in `dir`.
+fn write_figures(
+    dir: &Path,
+    model: &ShaftModel,
+    speed_hz: f64,
+) -> Result<Vec<std::path::PathBuf>, String> {
+    let ms = modes(model, speed_hz * TAU).map_err(|e| e.to_string())?;
+    let mut files = rotor_drawing(model)
+        .save(dir, "rotor")
+        .map_err(|e| format!("figures not written: {e}"))?;
+    files.extend(
+        mode_shapes(model, &ms, speed_hz, 6)
+            .save(dir, "modes")
+            .map_err(|e| format!("figures not written: {e}"))?,
+    );
+    Ok(files)
 }
 
 #[cfg(test)]
@@ -281,7 +515,20 @@ mod tests {
         assert_eq!(v["critical_speeds"].as_array().unwrap().len(), 2);
         let at500 = &v["unbalance"]["response"][1]["nodes"][1];
         assert!(at500["major_um"].as_f64().unwrap() > 0.0, "{at500}");
-        assert!(d.join("out/modal.json").exists() && d.join("out/campbell.svg").exists());
+        for f in [
+            "modal.json",
+            "campbell.svg",
+            "rotor.svg",
+            "rotor.png",
+            "modes.svg",
+        ] {
+            assert!(d.join("out").join(f).exists(), "{f}");
+        }
+        for f in ["rotor.svg", "modes.svg"] {
+            let svg = std::fs::read_to_string(d.join("out").join(f)).unwrap();
+            let bad = crate::plot::layout::problems(&svg);
+            assert!(bad.is_empty(), "{f}: {bad:#?}");
+        }
         let _ = std::fs::remove_dir_all(&d);
     }
 
