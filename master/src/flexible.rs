@@ -72,13 +72,20 @@ pub fn add_rings(
     Ok(notes)
 }
 
-/// Modes at each speed, the first `n_critical` critical speeds, the unbalance response at each
+/// The highest frequency the Campbell diagram and the automatic critical speeds look at: twice
+/// the highest speed, at least 1 kHz.
+pub fn campbell_cap_hz(speeds_hz: &[f64]) -> f64 {
+    (2.0 * speeds_hz.iter().copied().fold(0.0, f64::max)).max(1000.0)
+}
+
+/// Modes at each speed, the first `n_critical` critical speeds (None: those of the modes below
+/// `campbell_cap_hz` at rest), the unbalance response at each
 /// speed; returns modal.json's value. `rings`: air ring bearings at these nodes.
 pub fn modal(
     rotor: &Path,
     speeds_hz: &[f64],
     rings: Option<(&[usize], RingFlags)>,
-    n_critical: usize,
+    n_critical: Option<usize>,
     unbalance: Option<Unbalance>,
     out: Option<&Path>,
 ) -> Result<serde_json::Value, String> {
@@ -157,6 +164,17 @@ pub fn modal(
         }
         table.push(serde_json::json!({ "speed_hz": f, "modes": rows }));
     }
+    let n_critical = match n_critical {
+        Some(n) => n,
+        None => {
+            let cap = campbell_cap_hz(speeds_hz);
+            modes(&model, 0.0)
+                .map_err(|e| e.to_string())?
+                .iter()
+                .filter(|m| m.wd_rad_s / TAU <= cap)
+                .count()
+        }
+    };
     let crit = critical_speeds(&model, n_critical).map_err(|e| e.to_string())?;
     if !crit.is_empty() {
         println!("critical speeds (damped frequency = speed):");
@@ -230,6 +248,7 @@ pub fn modal(
             dir,
             &v,
             "Campbell diagram (flexible rotor, damped frequencies)",
+            Some(campbell_cap_hz(speeds_hz)),
         )?;
         let files = write_figures(dir, &model, speeds_hz.first().copied().unwrap_or(0.0))?;
         println!(
@@ -510,7 +529,15 @@ mod tests {
             g_mm: 5.0,
             phase_deg: 0.0,
         };
-        let v = modal(&f, &[0.0, 500.0], None, 2, Some(u), Some(&d.join("out"))).unwrap();
+        let v = modal(
+            &f,
+            &[0.0, 500.0],
+            None,
+            Some(2),
+            Some(u),
+            Some(&d.join("out")),
+        )
+        .unwrap();
         assert_eq!(v["campbell"].as_array().unwrap().len(), 2);
         assert_eq!(v["critical_speeds"].as_array().unwrap().len(), 2);
         let at500 = &v["unbalance"]["response"][1]["nodes"][1];
@@ -541,7 +568,7 @@ mod tests {
             g_mm: 5.0,
             phase_deg: 0.0,
         };
-        let e = modal(&f, &[100.0], None, 2, Some(off), None).unwrap_err();
+        let e = modal(&f, &[100.0], None, Some(2), Some(off), None).unwrap_err();
         assert!(
             e.contains("--unbalance-node 3") && e.contains("0 to 2"),
             "{e}"
@@ -557,12 +584,12 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.contains("--unbalance 0 g mm"), "{e}");
-        let e = modal(&d.join("missing.toml"), &[100.0], None, 2, None, None).unwrap_err();
+        let e = modal(&d.join("missing.toml"), &[100.0], None, Some(2), None, None).unwrap_err();
         assert!(
             e.contains("missing.toml") && e.contains("cannot be read"),
             "{e}"
         );
-        let e = modal(&f, &[-5.0], None, 2, None, None).unwrap_err();
+        let e = modal(&f, &[-5.0], None, Some(2), None, None).unwrap_err();
         assert!(e.starts_with("--speed -5 Hz"), "{e}");
         let _ = std::fs::remove_dir_all(&d);
     }

@@ -123,19 +123,25 @@ pub fn modal(
             dir,
             &v,
             "Campbell diagram (rotor on linear film springs, undamped)",
+            None,
         )?;
     }
     Ok(v)
 }
 
 /// modal.json and the Campbell diagram (campbell.svg, .png) in `dir`.
-pub(crate) fn write_outputs(dir: &Path, v: &serde_json::Value, title: &str) -> Result<(), String> {
+pub(crate) fn write_outputs(
+    dir: &Path,
+    v: &serde_json::Value,
+    title: &str,
+    cap_hz: Option<f64>,
+) -> Result<(), String> {
     std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
     crate::output::write_whole(
         &dir.join("modal.json"),
         serde_json::to_string_pretty(v).unwrap().as_bytes(),
     )?;
-    let files = campbell(v, title)
+    let files = campbell(v, title, cap_hz)
         .save(dir, "campbell")
         .map_err(|e| e.to_string())?;
     println!(
@@ -151,8 +157,10 @@ pub(crate) fn write_outputs(dir: &Path, v: &serde_json::Value, title: &str) -> R
 }
 
 /// Campbell diagram: one line per mode rank (sorted by frequency at each speed), each segment
-/// red for forward and blue for backward whirl at its end.
-fn campbell(v: &serde_json::Value, title: &str) -> Chart {
+/// red for forward and blue for backward whirl at its end, and the 1x line (speed = frequency:
+/// its crossings are the critical speeds). With `cap_hz`, only the ranks below that frequency at
+/// the first speed (a flexible rotor has modes far above any speed of interest).
+fn campbell(v: &serde_json::Value, title: &str, cap_hz: Option<f64>) -> Chart {
     let table = v["campbell"].as_array().cloned().unwrap_or_default();
     let speed = |row: &serde_json::Value| row["speed_hz"].as_f64().unwrap_or(0.0);
     let freqs = |row: &serde_json::Value| -> Vec<(f64, bool)> {
@@ -172,9 +180,13 @@ fn campbell(v: &serde_json::Value, title: &str) -> Chart {
     };
     let s_max = table.iter().map(speed).fold(0.0, f64::max);
     let s_min = table.iter().map(speed).fold(s_max, f64::min);
+    let mut n = table.iter().map(|r| freqs(r).len()).min().unwrap_or(0);
+    if let (Some(cap), Some(first)) = (cap_hz, table.first()) {
+        n = n.min(freqs(first).iter().filter(|f| f.0 <= cap).count());
+    }
     let f_max = table
         .iter()
-        .flat_map(|r| freqs(r).into_iter().map(|f| f.0))
+        .flat_map(|r| freqs(r).into_iter().take(n).map(|f| f.0))
         .fold(1.0, f64::max);
     // A single speed still gets a visible short tick per mode.
     let pad = if s_max > s_min { 0.0 } else { 10.0 };
@@ -188,7 +200,6 @@ fn campbell(v: &serde_json::Value, title: &str) -> Chart {
         (s_min - pad, s_max + pad),
         (0.0, 1.1 * f_max),
     );
-    let n = table.iter().map(|r| freqs(r).len()).min().unwrap_or(0);
     let segments: Vec<(&serde_json::Value, &serde_json::Value)> = if table.len() == 1 {
         vec![(&table[0], &table[0])]
     } else {
@@ -213,7 +224,22 @@ fn campbell(v: &serde_json::Value, title: &str) -> Chart {
             );
         }
     }
-    c.legend(&[("forward whirl", Rgb::RED), ("backward whirl", Rgb::BLUE)]);
+    let top = s_max.min(1.1 * f_max);
+    if top > s_min {
+        c.line(
+            [(s_min, s_min), (top, top)],
+            Rgb::GREY,
+            1.2,
+            true,
+            Role::Reference,
+            "1x",
+        );
+    }
+    c.legend(&[
+        ("forward whirl", Rgb::RED),
+        ("backward whirl", Rgb::BLUE),
+        ("1x (speed)", Rgb::GREY),
+    ]);
     c
 }
 
@@ -277,7 +303,7 @@ mod tests {
                 {"freq_hz": 420.0 + 0.05 * s, "whirl": "forward"}]})
         };
         let v = serde_json::json!({"campbell": [row(100.0), row(1000.0), row(2000.0)]});
-        let svg = campbell(&v, "Campbell diagram").to_svg().unwrap();
+        let svg = campbell(&v, "Campbell diagram", None).to_svg().unwrap();
         let doc = roxmltree::Document::parse(&svg).unwrap();
         let series: Vec<_> = doc
             .descendants()

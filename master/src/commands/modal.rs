@@ -29,9 +29,10 @@ pub struct Args {
     /// nodes, in place of the file's bearings there.
     #[arg(long, num_args = 1.., value_delimiter = ',', requires = "rotor")]
     pub bearing_nodes: Vec<usize>,
-    /// With --rotor: critical speeds of the first N modes (damped frequency = speed).
-    #[arg(long, default_value_t = 8, requires = "rotor")]
-    pub critical_speeds: usize,
+    /// With --rotor: critical speeds (damped frequency = speed) of the first N modes [default:
+    /// every mode below twice the highest --speed at rest, at least below 1 kHz].
+    #[arg(long, requires = "rotor")]
+    pub critical_speeds: Option<usize>,
     /// With --rotor: the response to an imbalance of this size [g mm] at every --speed.
     #[arg(long, requires_all = ["rotor", "unbalance_node"])]
     pub unbalance: Option<f64>,
