@@ -578,7 +578,7 @@ mod tests {
             &f,
             &[100.0],
             None,
-            2,
+            Some(2),
             Some(Unbalance { node: 1, ..zero }),
             None,
         )
