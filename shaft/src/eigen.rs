@@ -60,6 +60,20 @@ pub fn balance(n: usize, a: &mut [f64]) -> Vec<f64> {
     d
 }
 
+/// Eigenvalues of the row-major n x n matrix `a` (balanced first); complex ones in exactly
+/// conjugate pairs, real ones with an imaginary part of exactly 0. `None` if the QR iteration does
+/// not converge or gives a value that is not finite.
+pub fn eigenvalues(n: usize, a: &[f64]) -> Option<Vec<C64>> {
+    let mut b = a.to_vec();
+    balance(n, &mut b);
+    let ev = faer::MatRef::from_row_major_slice(&b, n, n)
+        .eigenvalues()
+        .ok()?;
+    ev.iter()
+        .all(|l| l.re.is_finite() && l.im.is_finite())
+        .then_some(ev)
+}
+
 /// Eigenvalues of the row-major n x n matrix `a` (balanced first) with their eigenvectors, each
 /// normalized so that its largest component (by modulus) is exactly 1; `None` if the QR
 /// iteration does not converge or gives a value that is not finite.

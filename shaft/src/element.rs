@@ -193,6 +193,23 @@ impl ShaftElement {
         self.material.rho_kg_m3 * std::f64::consts::PI * (self.length_m / 12.0) * (outer - inner)
     }
 
+    /// Axial position of the element's centre of mass from its left node [m] (ROSS's
+    /// `beam_cg`; half the length for a cylinder).
+    pub fn mass_center_m(&self) -> f64 {
+        let (roj, rok, rij, rik) = (
+            self.od_left_m / 2.0,
+            self.od_right_m / 2.0,
+            self.id_left_m / 2.0,
+            self.id_right_m / 2.0,
+        );
+        let c1 = roj * roj + 2.0 * roj * rok + 3.0 * rok * rok
+            - rij * rij
+            - 2.0 * rij * rik
+            - 3.0 * rik * rik;
+        let c2 = (roj * roj + roj * rok + rok * rok) - (rij * rij + rij * rik + rik * rik);
+        self.length_m * c1 / (4.0 * c2)
+    }
+
     fn section(&self) -> Section {
         use std::f64::consts::PI;
         let (l, odl, odr, idl, idr) = (
@@ -578,6 +595,22 @@ mod tests {
                 assert!((g[i][j] + g[j][i]).abs() <= 1e-15, "G {i} {j}");
             }
         }
+    }
+
+    /// The centre of mass of a cone frustum: at h (R^2 + 2 R r + 3 r^2) / (4 (R^2 + R r + r^2))
+    /// from the end of radius R; half way for a cylinder; a hollow one is the difference.
+    #[test]
+    fn mass_centre_of_cylinders_and_cones() {
+        let c = ShaftElement::cylinder(0.4, 0.01, 0.05, Material::steel());
+        assert!((c.mass_center_m() - 0.2).abs() < 1e-15);
+        let mut cone = ShaftElement::cylinder(0.3, 0.0, 0.04, Material::steel());
+        cone.od_right_m = 0.0;
+        // A full cone from radius 0.02 to 0: its centre of mass a quarter of the way.
+        assert!(
+            (cone.mass_center_m() - 0.075).abs() < 1e-15,
+            "{}",
+            cone.mass_center_m()
+        );
     }
 
     /// Translational mass: a rigid translation of the element in x moves its whole mass.

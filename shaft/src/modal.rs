@@ -96,6 +96,23 @@ pub fn modes_of(mm: &Matrices, speed_rad_s: f64) -> Result<Vec<Mode>, ShaftError
     Ok(out)
 }
 
+/// The real eigenvalues [1/s] of assembled matrices at spin speed `speed_rad_s`: non-oscillating
+/// motion (overdamped, or a static divergence where one is > 0).
+pub fn real_eigenvalues_of(mm: &Matrices, speed_rad_s: f64) -> Result<Vec<f64>, ShaftError> {
+    let a = state_matrix(mm, speed_rad_s)?;
+    let ev = crate::eigen::eigenvalues(2 * mm.n, &a).ok_or_else(|| {
+        ShaftError::Numerical(format!(
+            "the eigenvalue iteration did not converge at {} rad/s",
+            bearing::num::Num(speed_rad_s)
+        ))
+    })?;
+    Ok(ev
+        .into_iter()
+        .filter(|l| l.im == 0.0)
+        .map(|l| l.re)
+        .collect())
+}
+
 fn state_matrix(mm: &Matrices, speed_rad_s: f64) -> Result<Vec<f64>, ShaftError> {
     let n = mm.n;
     let m = faer::MatRef::from_row_major_slice(&mm.m, n, n);

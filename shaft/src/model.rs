@@ -113,6 +113,28 @@ impl ShaftModel {
             + self.point_masses.iter().map(|p| p.mass_kg).sum::<f64>()
     }
 
+    /// Axial position of the centre of mass of shaft, disks and point masses [m].
+    pub fn mass_center_m(&self) -> f64 {
+        let z = self.node_z_m();
+        let moment = self
+            .elements
+            .iter()
+            .zip(&z)
+            .map(|(e, z0)| e.mass_kg() * (z0 + e.mass_center_m()))
+            .sum::<f64>()
+            + self
+                .disks
+                .iter()
+                .map(|d| d.mass_kg * z[d.node])
+                .sum::<f64>()
+            + self
+                .point_masses
+                .iter()
+                .map(|p| p.mass_kg * z[p.node])
+                .sum::<f64>();
+        moment / self.mass_kg()
+    }
+
     /// Checks every element, disk, point mass and support; the message names the first bad one.
     pub fn validate(&self) -> Result<(), ShaftError> {
         if self.elements.is_empty() {

@@ -127,3 +127,27 @@ def test_unbalance_response_agrees_with_ross(compared):
             assert abs(mine["y_amplitude_um"] - theirs_y) <= 0.02 * theirs_y, (f, node, theirs_y, mine)
             checked += 1
     assert checked == 25
+
+
+def test_stability_in_air_ring_bearings_carries_the_weight_ross_gives(tmp_path):
+    """`airring stability --rotor` on the same shaft and disks without bearings, carried by two air
+    ring bearings: the films' static loads add up to the weight of ROSS's rotor and balance its
+    moment about ROSS's centre of gravity (ROSS's own mass and CG, not ours)."""
+    warnings.simplefilter("ignore")
+    r = build_rotor()
+    bare = rs.Rotor(r.shaft_elements, r.disk_elements, [])
+    bare.save(tmp_path / "bare.toml")
+    cmd = [airring_exe(), "stability", "--rotor", str(tmp_path / "bare.toml"), "--bearing-nodes", "5,15",
+           "--speeds", "300:900:600", "--mesh", "10x4", "--out", str(tmp_path / "out")]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    assert p.returncode == 0, p.stderr
+    v = json.loads((tmp_path / "out" / "stability.json").read_text())
+    assert v["rotor"]["bearing_nodes"] == [5, 15]
+    weight = bare.m * 9.81
+    z = bare.nodes_pos
+    for sp in v["report"]["speeds"]:
+        (fc, ft) = (sp["bearings"][0]["load_n"], sp["bearings"][1]["load_n"])
+        assert abs(fc[1] + ft[1] - weight) <= 1e-9 * weight
+        moment = fc[1] * (z[5] - bare.CG) + ft[1] * (z[15] - bare.CG)
+        assert abs(moment) <= 1e-9 * weight * 0.24
+        assert len(sp["modes"]) >= 8

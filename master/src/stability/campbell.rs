@@ -11,8 +11,8 @@
 //! so K(|nu|), D(|nu|) serve both whirl directions.
 
 use super::equilibrium::SolvedBearing;
-use fmu_rotor::linear::{lateral_matrices, modes, real_eigenvalues, Mode, Whirl};
-use fmu_rotor::{FilmCoefficients, RotorParams};
+use super::structure::LinearRotor;
+use fmu_rotor::FilmCoefficients;
 use serde::Serialize;
 use std::collections::HashMap;
 use std::f64::consts::TAU;
@@ -117,39 +117,39 @@ pub fn real_mode(re: f64) -> ModeResult {
     }
 }
 
-fn result_of(m: &Mode, iterations: usize, converged: bool) -> ModeResult {
-    let lam = m.eigenvalue;
+fn result_of<R: LinearRotor>(m: &R::Mode, iterations: usize, converged: bool) -> ModeResult {
+    let (re, im) = R::eigenvalue(m);
     ModeResult {
-        freq_hz: m.freq_hz,
-        growth_per_s: lam.re,
-        damping_ratio: m.damping_ratio,
-        log_decrement: -TAU * lam.re / lam.im,
-        whirl: match m.whirl {
-            Whirl::Forward => "forward".into(),
-            Whirl::Backward => "backward".into(),
+        freq_hz: R::freq_hz(m),
+        growth_per_s: re,
+        damping_ratio: R::damping_ratio(m),
+        log_decrement: -TAU * re / im,
+        whirl: if R::forward(m) {
+            "forward".into()
+        } else {
+            "backward".into()
         },
-        description: m.shape.describe(),
+        description: R::describe(m),
         iterations,
         converged,
     }
 }
 
-fn modes_with(
-    rotor: &RotorParams,
+fn modes_with<R: LinearRotor>(
+    rotor: &R,
     omega_rad_s: f64,
     tables: &mut [ImpedanceTable; 2],
     nu_hz: f64,
-) -> Result<Vec<Mode>, String> {
+) -> Result<Vec<R::Mode>, String> {
     let films = [tables[0].at(nu_hz)?, tables[1].at(nu_hz)?];
-    let lm = lateral_matrices(rotor, omega_rad_s, &films);
-    modes(&lm).map_err(|e| e.to_string())
+    rotor.modes(omega_rad_s, &films)
 }
 
 /// All oscillating modes at `omega_rad_s`, each with film coefficients at its own frequency,
 /// sorted by frequency; and the real eigenvalues [1/s] with the static film coefficients (exact
 /// where it matters: a real eigenvalue crosses 0, a divergence, at nu = 0).
-pub fn system_modes(
-    rotor: &RotorParams,
+pub fn system_modes<R: LinearRotor>(
+    rotor: &R,
     omega_rad_s: f64,
     bearings: &[SolvedBearing; 2],
 ) -> Result<(Vec<ModeResult>, Vec<f64>), String> {
@@ -159,25 +159,28 @@ pub fn system_modes(
     ];
     let start = modes_with(rotor, omega_rad_s, &mut tables, 0.0)?;
     let films0 = [tables[0].at(0.0)?, tables[1].at(0.0)?];
-    let real = real_eigenvalues(&lateral_matrices(rotor, omega_rad_s, &films0))
-        .map_err(|e| e.to_string())?;
+    let real = rotor.real_eigenvalues(omega_rad_s, &films0)?;
     let mut out = Vec::with_capacity(start.len());
+    let cap = rotor.mode_cap_hz();
     for (rank, m0) in start.iter().enumerate() {
+        if cap.is_some_and(|c| R::freq_hz(m0) > c) {
+            break;
+        }
         // Mode `rank` (by frequency) of A(nu) defines g(nu) = Im(lambda_rank(nu)) / 2 pi - nu; its
         // root is the self-consistent mode. Fixed-point steps, then secant steps (ranks keep two
         // starting modes from converging onto the same eigenvalue).
         // None: at this nu the matrix has fewer oscillatory modes than `rank + 1` (heavy ring
         // damping makes a mode overdamped: a pair of negative real eigenvalues, which `modes`
         // does not list); such a mode has no whirl frequency and decays, so it is left out.
-        let f_of = |tables: &mut [ImpedanceTable; 2], nu: f64| -> Result<Option<Mode>, String> {
+        let f_of = |tables: &mut [ImpedanceTable; 2], nu: f64| -> Result<Option<R::Mode>, String> {
             let ms = modes_with(rotor, omega_rad_s, tables, nu)?;
             Ok(ms.get(rank).cloned())
         };
-        let mut nu = m0.freq_hz;
+        let mut nu = R::freq_hz(m0);
         let Some(mut current) = f_of(&mut tables, nu)? else {
             continue;
         };
-        let mut g = current.freq_hz - nu;
+        let mut g = R::freq_hz(&current) - nu;
         let mut prev: Option<(f64, f64)> = None;
         let mut iterations = 1;
         let mut lost = false;
@@ -195,12 +198,12 @@ pub fn system_modes(
                     break;
                 }
             }
-            g = current.freq_hz - nu;
+            g = R::freq_hz(&current) - nu;
             iterations += 1;
         }
         if !lost {
             let converged = g.abs() <= 1e-6 * nu.abs() + 1e-6;
-            out.push(result_of(&current, iterations, converged));
+            out.push(result_of::<R>(&current, iterations, converged));
         }
     }
     out.sort_by(|a, b| a.freq_hz.total_cmp(&b.freq_hz));

@@ -25,6 +25,15 @@ pub struct StabilityArgs {
     /// --imbalance-t.
     #[arg(long, visible_alias = "imbalance-t", allow_hyphen_values = true)]
     pub unbalance_t: Option<String>,
+    /// A flexible rotor: a rotor file saved by ROSS 2.3.0 (shaft elements, disks, point masses;
+    /// no bearings of its own) in place of the paper's rigid rotor, carried by the two air ring
+    /// bearings at --bearing-nodes. The bearing flags and the design file give the bearings; the
+    /// rigid rotor's mass properties do not apply.
+    #[arg(long, requires = "bearing_nodes")]
+    pub rotor: Option<PathBuf>,
+    /// With --rotor: the nodes of bearings C and T, "C,T".
+    #[arg(long, value_delimiter = ',', num_args = 1.., requires = "rotor")]
+    pub bearing_nodes: Vec<usize>,
 }
 
 /// The run-up settings these flags describe (preset, design file, then overrides; the
@@ -114,7 +123,9 @@ fn print_table(s: &RunupSettings, r: &StabilityReport) {
         "{:>7} {:>6} {:>6} {:>7} {:>7} {:>6} |",
         "speed", "eps_C", "eps_T", "P_C", "P_T", "N"
     );
-    let n_ranks = r.speeds.iter().map(|s| s.modes.len()).max().unwrap_or(0);
+    // At most 12 columns (a flexible rotor has more modes; stability.json has them all).
+    let all_ranks = r.speeds.iter().map(|s| s.modes.len()).max().unwrap_or(0);
+    let n_ranks = all_ranks.min(12);
     for k in 0..n_ranks {
         print!(" {:>15}", format!("mode {}", k + 1));
     }
@@ -125,7 +136,7 @@ fn print_table(s: &RunupSettings, r: &StabilityReport) {
             "{:7.1} {:6.3} {:6.3} {:7.2} {:7.2} {:6.1} |",
             sp.speed_hz, c.eps, t.eps, c.power_loss_w, t.power_loss_w, n
         );
-        for m in &sp.modes {
+        for m in sp.modes.iter().take(n_ranks) {
             let w = if m.whirl == "forward" { 'F' } else { 'B' };
             let flag = if m.converged { ' ' } else { '*' };
             print!(
@@ -135,7 +146,7 @@ fn print_table(s: &RunupSettings, r: &StabilityReport) {
             );
         }
         // Ranks this speed lacks (overdamped there) stay blank, so the columns line up.
-        for _ in sp.modes.len()..n_ranks {
+        for _ in sp.modes.len().min(n_ranks)..n_ranks {
             print!(" {:>15}", "-");
         }
         if let Some(re) = sp.real_eigenvalues_per_s.iter().copied().reduce(f64::max) {
@@ -144,6 +155,12 @@ fn print_table(s: &RunupSettings, r: &StabilityReport) {
             }
         }
         println!();
+    }
+    if all_ranks > n_ranks {
+        println!(
+            "modes {} to {all_ranks} are in stability.json (--out)",
+            n_ranks + 1
+        );
     }
     let unconverged: usize = r
         .speeds
@@ -184,7 +201,44 @@ fn print_table(s: &RunupSettings, r: &StabilityReport) {
 pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
     let s = settings(a)?;
     let speeds = parse_speeds(&a.speeds)?;
-    let (r, solved) = analyse_with_equilibria(&s, &speeds)?;
+    let mut rotor_json = serde_json::Value::Null;
+    let (r, solved) = match &a.rotor {
+        Some(file) => {
+            if a.unbalance_c.is_some() || a.unbalance_t.is_some() {
+                return Err(
+                    "--unbalance-c and --unbalance-t are the paper rotor's wheels; for a \
+                            flexible rotor the unbalance response is `airring modal --rotor FILE \
+                            --unbalance G_MM --unbalance-node N`"
+                        .into(),
+                );
+            }
+            let &[c, t] = a.bearing_nodes.as_slice() else {
+                return Err(format!(
+                    "--bearing-nodes takes two nodes, bearing C's and T's (\"C,T\"); {} given",
+                    a.bearing_nodes.len()
+                ));
+            };
+            let (model, notes) = crate::flexible::read_rotor(file)?;
+            let nodes = [c, t];
+            println!(
+                "flexible rotor {}: {} shaft elements, {:.4} kg, bearings C at node {}, T at node {}",
+                file.display(),
+                model.elements.len(),
+                model.mass_kg(),
+                nodes[0],
+                nodes[1]
+            );
+            for n in &notes {
+                println!("note: {n}");
+            }
+            rotor_json = serde_json::json!({
+                "file": file.display().to_string(), "elements": model.elements.len(),
+                "mass_kg": model.mass_kg(), "bearing_nodes": nodes, "notes": notes,
+            });
+            super::analyse_flexible(&s, model, nodes, &speeds)?
+        }
+        None => analyse_with_equilibria(&s, &speeds)?,
+    };
     print_table(&s, &r);
     let unbalance = if a.unbalance_c.is_some() || a.unbalance_t.is_some() {
         let (rotor, _) = super::params_of(&s)?;
@@ -207,6 +261,7 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
             "fmu_parameters": s.fmu_parameters,
             "nu_grid_hz": super::campbell::GRID_HZ,
         },
+        "rotor": rotor_json,
         "report": r,
         "unbalance": unbalance,
     });

@@ -10,16 +10,18 @@ pub mod campbell;
 pub mod cli;
 pub mod equilibrium;
 pub mod figures;
+pub mod structure;
 pub mod unbalance;
 
 use crate::fmu_params::with_units;
 use crate::runup::RunupSettings;
 use campbell::{system_modes, ModeResult};
-use equilibrium::{journal_loads_n, solve_bearing, BearingEquilibrium, SolvedBearing};
+use equilibrium::{solve_bearing, BearingEquilibrium, SolvedBearing};
 use fmu_airfilm::BearingParams;
 use fmu_rotor::RotorParams;
 use serde::Serialize;
 use std::f64::consts::TAU;
+use structure::LinearRotor;
 
 /// Rotor and film parameters [C, T] of a run-up setting: the parameters the run-up's system file
 /// gives each FMU instance (including `--set` ones), mapped by the FMUs' own `params_from`, so the
@@ -114,17 +116,14 @@ pub fn growth_exponent(speeds: &[SpeedResult], ramp_hz_per_s: f64) -> Vec<f64> {
 }
 
 /// Equilibrium of both bearings at `speed_hz`, optionally warm-started from another speed's.
-fn equilibria(
-    rotor: &RotorParams,
+fn equilibria<R: LinearRotor>(
+    rotor: &R,
     films: &[BearingParams; 2],
     speed_hz: f64,
     warm: Option<&[SolvedBearing; 2]>,
 ) -> Result<[SolvedBearing; 2], String> {
-    let loads = journal_loads_n(rotor);
-    let mounts = [
-        (rotor.c_c_n_m, rotor.m_r_c_kg),
-        (rotor.c_t_n_m, rotor.m_r_t_kg),
-    ];
+    let loads = rotor.journal_loads_n();
+    let mounts = [rotor.mount(0), rotor.mount(1)];
     let solve = |i: usize| {
         let start = match warm {
             Some(w) => {
@@ -140,15 +139,15 @@ fn equilibria(
             start,
             mounts[i].0,
             mounts[i].1,
-            rotor.g_m_s2,
+            rotor.g_m_s2(),
         )
         .map_err(|e| format!("bearing {}: {e}", ["C", "T"][i]))
     };
     Ok([solve(0)?, solve(1)?])
 }
 
-fn analyse_speed(
-    rotor: &RotorParams,
+fn analyse_speed<R: LinearRotor>(
+    rotor: &R,
     films: &[BearingParams; 2],
     speed_hz: f64,
     warm: Option<&[SolvedBearing; 2]>,
@@ -169,8 +168,8 @@ pub type SpeedOutcome = Result<(SpeedResult, [SolvedBearing; 2]), String>;
 
 /// Every speed of `speeds_hz` analysed on its own (cold-started equilibria), on all cores (std
 /// threads, strided split); the results keep the grid order, a failed speed fails alone.
-pub fn per_speed(
-    rotor: &RotorParams,
+pub fn per_speed<R: LinearRotor>(
+    rotor: &R,
     films: &[BearingParams; 2],
     speeds_hz: &[f64],
 ) -> Vec<SpeedOutcome> {
@@ -216,6 +215,15 @@ pub fn analyse_with_equilibria(
     speeds_hz: &[f64],
 ) -> Result<(StabilityReport, Vec<[SolvedBearing; 2]>), String> {
     let t0 = std::time::Instant::now();
+    let (rotor, films) = checked_params(s, speeds_hz)?;
+    analyse_rotor(&rotor, &films, s, speeds_hz, t0)
+}
+
+/// The rotor and film parameters of `s`, checked for the linear analysis, and the speeds.
+fn checked_params(
+    s: &RunupSettings,
+    speeds_hz: &[f64],
+) -> Result<(RotorParams, [BearingParams; 2]), String> {
     let (rotor, films) = params_of(s)?;
     rotor
         .validate()
@@ -234,7 +242,41 @@ pub fn analyse_with_equilibria(
     if speeds_hz.is_empty() || speeds_hz.iter().any(|f| !(f.is_finite() && *f > 0.0)) {
         return Err("speeds must be finite and > 0 Hz".into());
     }
-    let results = per_speed(&rotor, &films, speeds_hz).into_iter();
+    Ok((rotor, films))
+}
+
+/// `analyse_with_equilibria` for a flexible rotor: `model` (no bearings of its own) on the air
+/// ring bearings of `s` (films, ring masses, mounts, gravity) at the nodes `bearing_nodes` [C, T].
+/// The modes followed are those below twice the highest speed (at least 1 kHz).
+pub fn analyse_flexible(
+    s: &RunupSettings,
+    model: shaft::ShaftModel,
+    bearing_nodes: [usize; 2],
+    speeds_hz: &[f64],
+) -> Result<(StabilityReport, Vec<[SolvedBearing; 2]>), String> {
+    let t0 = std::time::Instant::now();
+    let (p, films) = checked_params(s, speeds_hz)?;
+    let mut rotor = structure::FlexibleRotor::new(
+        model,
+        bearing_nodes,
+        [
+            (p.m_r_c_kg, p.c_c_n_m, p.d_c_n_s_m),
+            (p.m_r_t_kg, p.c_t_n_m, p.d_t_n_s_m),
+        ],
+        p.g_m_s2,
+    )?;
+    rotor.cap_hz = crate::flexible::campbell_cap_hz(speeds_hz);
+    analyse_rotor(&rotor, &films, s, speeds_hz, t0)
+}
+
+fn analyse_rotor<R: LinearRotor>(
+    rotor: &R,
+    films: &[BearingParams; 2],
+    s: &RunupSettings,
+    speeds_hz: &[f64],
+    t0: std::time::Instant,
+) -> Result<(StabilityReport, Vec<[SolvedBearing; 2]>), String> {
+    let results = per_speed(rotor, films, speeds_hz).into_iter();
     let mut speeds = Vec::with_capacity(speeds_hz.len());
     let mut solved = Vec::with_capacity(speeds_hz.len());
     for r in results {
@@ -254,7 +296,7 @@ pub fn analyse_with_equilibria(
         while hi - lo > tolerance_hz {
             let mid = 0.5 * (lo + hi);
             let w = warm.as_ref().unwrap_or(&solved[i - 1]);
-            let (r, eq) = analyse_speed(&rotor, &films, mid, Some(w))?;
+            let (r, eq) = analyse_speed(rotor, films, mid, Some(w))?;
             if r.max_growth_per_s() > 0.0 {
                 hi = mid;
                 hi_mode = r.critical();

@@ -1,0 +1,75 @@
+//! The linear stability analysis of a flexible rotor in air ring bearings, in the rigid limit:
+//! the paper's rotor as a massless, very stiff shaft with its mass and inertias as a disk
+//! (`master::flexible::stiff_shaft_of`) in the path-1 bearings gives the rigid rotor's
+//! equilibria, modes and threshold speed. Coarse film mesh (10 x 4): the comparison is between
+//! two rotor models on one film.
+
+use master::runup::RunupSettings;
+use master::stability::{analyse, analyse_flexible, params_of};
+
+#[test]
+fn a_stiff_shaft_in_the_path1_bearings_has_the_rigid_rotors_threshold_and_modes() {
+    let mut s = RunupSettings::preset("path1").unwrap();
+    s.n_elem_phi = 10;
+    s.n_elem_z = 4;
+    let speeds = [300.0, 700.0];
+    let rigid = analyse(&s, &speeds).unwrap();
+    let (p, _) = params_of(&s).unwrap();
+    let model = master::flexible::stiff_shaft_of(&p);
+    // Bearing C (compressor journal) is node 2, T node 0.
+    let (flexible, _) = analyse_flexible(&s, model, [2, 0], &speeds).unwrap();
+    for (r, f) in rigid.speeds.iter().zip(&flexible.speeds) {
+        for b in 0..2 {
+            let (er, ef) = (r.bearings[b].eps, f.bearings[b].eps);
+            // The stiff shaft adds 4e-5 of the rotor's mass (and moves its centre of mass by as
+            // little): eps moves by about 2e-5.
+            assert!(
+                (er - ef).abs() < 1e-4,
+                "{} Hz bearing {b}: eps {er} vs {ef}",
+                r.speed_hz
+            );
+        }
+        // The flexible analysis follows the modes below twice the highest speed (1400 Hz).
+        let n = f.modes.len().min(r.modes.len());
+        assert!(n >= 6, "{} Hz: {} modes", r.speed_hz, f.modes.len());
+        for (mr, mf) in r.modes.iter().zip(&f.modes).take(n) {
+            assert!(
+                (mr.freq_hz - mf.freq_hz).abs() < 0.1,
+                "{} Hz: {} vs {} Hz",
+                r.speed_hz,
+                mr.freq_hz,
+                mf.freq_hz
+            );
+            assert!(
+                (mr.growth_per_s - mf.growth_per_s).abs() < 0.1 + 1e-3 * mr.growth_per_s.abs(),
+                "{} Hz, mode at {} Hz: growth {} vs {} 1/s",
+                r.speed_hz,
+                mr.freq_hz,
+                mr.growth_per_s,
+                mf.growth_per_s
+            );
+            assert_eq!(
+                mr.whirl, mf.whirl,
+                "{} Hz, mode at {} Hz",
+                r.speed_hz, mr.freq_hz
+            );
+        }
+    }
+    let (tr, tf) = (
+        rigid
+            .threshold
+            .as_ref()
+            .expect("path 1 turns unstable between 300 and 700 Hz"),
+        flexible
+            .threshold
+            .as_ref()
+            .expect("so does the stiff shaft"),
+    );
+    assert!(
+        (tr.speed_hz - tf.speed_hz).abs() <= 0.01 * tr.speed_hz,
+        "threshold {} vs {} Hz",
+        tr.speed_hz,
+        tf.speed_hz
+    );
+    assert_eq!(tr.mode.whirl, tf.mode.whirl);
+}
