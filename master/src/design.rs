@@ -51,18 +51,25 @@ const MOUNT_KEYS: &[(&str, &str)] = &[("mount_c", "c"), ("mount_d", "d"), ("ring
 pub struct Design {
     pub entries: Vec<(String, String)>,
     pub sources: Vec<String>,
+    /// `[shaft]`: a flexible rotor and its bearing nodes (`airring stability`, `airring modal`).
+    pub shaft: Option<crate::shaft_table::ShaftSpec>,
 }
 
 impl Design {
     pub fn load(path: &Path) -> Result<Design, String> {
         let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-        Design::parse(&text).map_err(|e| format!("{}: {e}", path.display()))
+        Design::parse_in(&text, path.parent()).map_err(|e| format!("{}: {e}", path.display()))
     }
 
     /// Parses a design file's text. A TOML error names the line and column and what is wrong,
     /// never the line's text: a file that is not a design (`design = "/etc/passwd"`) must not
     /// have its content echoed.
     pub fn parse(text: &str) -> Result<Design, String> {
+        Design::parse_in(text, None)
+    }
+
+    /// `parse`, with the design file's folder `dir` (a `[shaft]` rotor_file is relative to it).
+    pub fn parse_in(text: &str, dir: Option<&Path>) -> Result<Design, String> {
         let table: toml::Table = text
             .parse()
             .map_err(|e: toml::de::Error| toml_error_without_text(text, &e))?;
@@ -102,10 +109,11 @@ impl Design {
                     }
                 }
                 "rotor" => d.rotor(t)?,
+                "shaft" => d.shaft = Some(crate::shaft_table::parse(t, dir)?),
                 other => {
                     return Err(format!(
                         "unknown section [{other}] (a design has [bearing], [bearing.compressor], \
-                         [bearing.turbine] and [rotor])"
+                         [bearing.turbine], [rotor] and [shaft])"
                     ))
                 }
             }
@@ -216,7 +224,11 @@ impl Design {
             .filter(|((k, _), _)| !keys.iter().any(|x| covers(x, k)))
             .map(|(e, at)| (e.clone(), at.clone()))
             .unzip();
-        Design { entries, sources }
+        Design {
+            entries,
+            sources,
+            shaft: self.shaft.clone(),
+        }
     }
 }
 

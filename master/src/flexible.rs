@@ -17,8 +17,19 @@ pub struct Unbalance {
     pub phase_deg: f64,
 }
 
-/// Reads the rotor file: ROSS's (it has `ross_version`).
+/// Reads a rotor file: saved by ROSS (it has `ross_version`), or a design file's `[shaft]` (its
+/// bearing nodes are the design's business: `airring stability --design`).
 pub fn read_rotor(path: &Path) -> Result<(ShaftModel, Vec<String>), String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("{}: cannot be read: {e}", path.display()))?;
+    let is_design = text
+        .parse::<toml::Table>()
+        .is_ok_and(|t| t.contains_key("shaft") && !t.contains_key("ross_version"));
+    if is_design {
+        let d = crate::design::Design::load(path)?;
+        let spec = d.shaft.expect("a [shaft] table");
+        return Ok((spec.model, spec.notes));
+    }
     let r = shaft::ross::read(path).map_err(|e| e.to_string())?;
     Ok((r.model, r.notes))
 }

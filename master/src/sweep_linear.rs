@@ -61,6 +61,7 @@ pub fn settings_for(
     s.f_max_hz = num("f_max")?.unwrap_or(s.f_max_hz);
     s.t_ramp_s = num("t_ramp")?.unwrap_or(s.t_ramp_s);
     s.validate()?;
+    s.refuse_shaft("a study's linear map")?;
     Ok(s)
 }
 

@@ -73,3 +73,67 @@ fn a_stiff_shaft_in_the_path1_bearings_has_the_rigid_rotors_threshold_and_modes(
     );
     assert_eq!(tr.mode.whirl, tf.mode.whirl);
 }
+
+/// The same stiff shaft written out as a design file's `[shaft]` table (units as an engineer
+/// writes them) through `airring stability --design`: the rigid rotor's threshold again; and the
+/// run-up refuses the design rather than run it without its shaft.
+#[test]
+fn a_design_files_shaft_table_is_the_flexible_rotor_of_stability_and_refused_by_runups() {
+    use clap::Parser;
+    #[derive(Parser)]
+    struct Flags {
+        #[command(flatten)]
+        args: master::stability::cli::StabilityArgs,
+    }
+    let p = fmu_rotor::RotorParams::paper();
+    let dir = std::env::temp_dir().join(format!("airring-shaft-design-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let design = dir.join("design.toml");
+    std::fs::write(
+        &design,
+        format!(
+            "[shaft]\nmaterial = {{ rho = \"1 kg/m3\", E = \"211000 GPa\", G = \"81200 GPa\" }}\n\
+             elements = [{{ L = \"{} mm\", od = \"20 mm\" }}, {{ L = \"{} mm\", od = \"20 mm\" }}]\n\
+             disks = [{{ node = 1, m = \"{} g\", Id = \"{} kg.m2\", Ip = \"{} kg.m2\" }}]\n\
+             bearing_nodes = {{ compressor = 2, turbine = 0 }}\n",
+            1e3 * (p.z_cm_m - p.z_jt_m),
+            1e3 * (p.z_jc_m - p.z_cm_m),
+            1e3 * p.m_kg,
+            p.j_t_kg_m2,
+            p.j_p_kg_m2
+        ),
+    )
+    .unwrap();
+    let flags = Flags::try_parse_from([
+        "stability",
+        "--design",
+        design.to_str().unwrap(),
+        "--speeds",
+        "300:700:400",
+        "--mesh",
+        "10x4",
+    ])
+    .unwrap();
+    let v = master::stability::cli::run_cli(&flags.args).unwrap();
+    assert_eq!(v["rotor"]["bearing_nodes"], serde_json::json!([2, 0]));
+    let mut s = RunupSettings::preset("path1").unwrap();
+    s.n_elem_phi = 10;
+    s.n_elem_z = 4;
+    let rigid = analyse(&s, &[300.0, 700.0]).unwrap();
+    let threshold = v["report"]["threshold"]["speed_hz"].as_f64().unwrap();
+    let tr = rigid.threshold.unwrap().speed_hz;
+    assert!((threshold - tr).abs() <= 0.01 * tr, "{threshold} vs {tr}");
+
+    #[derive(Parser)]
+    struct Runup {
+        #[command(flatten)]
+        args: master::runup::DesignArgs,
+    }
+    let runup = Runup::parse_from(["x", "--design", design.to_str().unwrap()])
+        .args
+        .settings()
+        .unwrap();
+    let e = runup.validate_runup().unwrap_err();
+    assert!(e.contains("[shaft]") && e.contains("run-ups"), "{e}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

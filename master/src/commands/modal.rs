@@ -22,7 +22,8 @@ pub struct Args {
     #[arg(long)]
     pub m_r: Option<f64>,
     /// A flexible rotor: a rotor file saved by ROSS 2.3.0 (`Rotor.save("rotor.toml")`), its
-    /// shaft elements, disks and linear bearings as they are, instead of the paper's rigid rotor.
+    /// shaft elements, disks and linear bearings as they are, or a design file's [shaft] table,
+    /// instead of the paper's rigid rotor.
     #[arg(long)]
     pub rotor: Option<PathBuf>,
     /// With --rotor: air ring bearings (ring, mount and film springs as the flags above) at these

@@ -96,6 +96,7 @@ pub fn run_cli(args: &OrbitsArgs, fmu_dir: PathBuf) -> Result<(), String> {
     // after a second of settling, naming a generated system file left in --out).
     let settings = args.bearing.settings()?;
     settings.validate()?;
+    settings.refuse_shaft("orbits")?;
     if !(args.settle.is_finite() && args.settle > 0.0) {
         return Err(format!(
             "--settle {} s: must be a positive, finite time",

@@ -77,6 +77,7 @@ impl DesignArgs {
             (s.n_elem_phi, s.n_elem_z) = super::parse_mesh(m, "--mesh")?;
         }
         s.design = self.design.clone();
+        s.shaft = design.shaft;
         s.fmu_parameters = design.entries;
         s.fmu_parameters
             .extend(crate::fmu_params::parse_set_flags(&self.set)?);

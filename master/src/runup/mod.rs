@@ -80,6 +80,10 @@ pub struct RunupSettings {
     /// ("film.eta", "1.9e-5 Pa.s"); applied after, and in place of, the parameters above
     /// (`crate::fmu_params`).
     pub fmu_parameters: Vec<(String, String)>,
+    /// The design file's `[shaft]`: a flexible rotor for `airring stability` (run-ups, orbits and
+    /// sweeps refuse it: they co-simulate the paper's rigid rotor).
+    #[serde(skip)]
+    pub shaft: Option<crate::shaft_table::ShaftSpec>,
 }
 
 /// Which FMU evaluates the mixed-lubrication contact of a run-up.
@@ -142,6 +146,7 @@ impl RunupSettings {
             contact: DEFAULT_CONTACT,
             design: None,
             fmu_parameters: Vec::new(),
+            shaft: None,
         })
     }
 
@@ -247,6 +252,7 @@ impl RunupSettings {
     /// bearings). The linear analysis takes each film's own and needs only `validate`.
     pub fn validate_runup(&self) -> Result<(), String> {
         self.validate()?;
+        self.refuse_shaft("run-ups")?;
         // Rows are written at macro points only: an interval that is not a whole number of
         // macro steps would space them unevenly (50 us at a 20 us step: 60, 40, 60, ... us).
         let per_row = (self.output_interval_us / self.macro_step_us).round();
@@ -271,6 +277,22 @@ impl RunupSettings {
         // refuses what the FMUs would refuse at the start of each run.
         self.validate_fmu_parameters()?;
         self.check_contact_geometry()
+    }
+
+    /// A design with a `[shaft]` (a flexible rotor) refused by what co-simulates the rigid rotor
+    /// (`what`: "run-ups", "orbits", ...), rather than run without its shaft.
+    pub fn refuse_shaft(&self, what: &str) -> Result<(), String> {
+        match (&self.shaft, &self.design) {
+            (Some(_), design) => Err(format!(
+                "{}[shaft] describes a flexible rotor: `airring stability` and `airring modal \
+                 --rotor` analyse it; {what} co-simulate the paper's rigid rotor (remove [shaft] \
+                 for them)",
+                design
+                    .as_ref()
+                    .map_or(String::new(), |p| format!("{}: ", p.display()))
+            )),
+            (None, _) => Ok(()),
+        }
     }
 
     /// The air films' and the rotor's own checks of the parameters they will get; a refusal of

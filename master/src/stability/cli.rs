@@ -26,9 +26,10 @@ pub struct StabilityArgs {
     #[arg(long, visible_alias = "imbalance-t", allow_hyphen_values = true)]
     pub unbalance_t: Option<String>,
     /// A flexible rotor: a rotor file saved by ROSS 2.3.0 (shaft elements, disks, point masses;
-    /// no bearings of its own) in place of the paper's rigid rotor, carried by the two air ring
-    /// bearings at --bearing-nodes. The bearing flags and the design file give the bearings; the
-    /// rigid rotor's mass properties do not apply.
+    /// a linear bearing of the file at a bearing node is replaced, others are refused) in place of
+    /// the paper's rigid rotor, carried by the two air ring bearings at --bearing-nodes. The
+    /// bearing flags and the design file give the bearings; the rigid rotor's mass properties do
+    /// not apply. A design file's [shaft] table does the same without --rotor.
     #[arg(long, requires = "bearing_nodes")]
     pub rotor: Option<PathBuf>,
     /// With --rotor: the nodes of bearings C and T, "C,T".
@@ -156,7 +157,9 @@ fn print_table(s: &RunupSettings, r: &StabilityReport) {
         }
         println!();
     }
-    if all_ranks > n_ranks {
+    if all_ranks == n_ranks + 1 {
+        println!("mode {all_ranks} is in stability.json (--out)");
+    } else if all_ranks > n_ranks {
         println!(
             "modes {} to {all_ranks} are in stability.json (--out)",
             n_ranks + 1
@@ -202,8 +205,48 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
     let s = settings(a)?;
     let speeds = parse_speeds(&a.speeds)?;
     let mut rotor_json = serde_json::Value::Null;
-    let (r, solved) = match &a.rotor {
-        Some(file) => {
+    let from_file = match (&a.rotor, &s.shaft) {
+        (Some(_), Some(_)) => {
+            return Err(
+                "--rotor and the design's [shaft] both give a flexible rotor: keep one".into(),
+            )
+        }
+        (Some(file), None) => {
+            let &[c, t] = a.bearing_nodes.as_slice() else {
+                return Err(format!(
+                    "--bearing-nodes takes two nodes, bearing C's and T's (\"C,T\"); {} given",
+                    a.bearing_nodes.len()
+                ));
+            };
+            let (model, notes) = crate::flexible::read_rotor(file)?;
+            Some((file.display().to_string(), model, [c, t], notes))
+        }
+        (None, Some(spec)) => Some((
+            format!(
+                "{} [shaft]",
+                s.design
+                    .as_ref()
+                    .map_or(String::new(), |p| p.display().to_string())
+            ),
+            spec.model.clone(),
+            spec.bearing_nodes,
+            spec.notes.clone(),
+        )),
+        (None, None) => None,
+    };
+    let (r, solved) = match from_file {
+        Some((file, mut model, nodes, mut notes)) => {
+            // A linear bearing of the file at a bearing node is the bearing the air ring
+            // bearing replaces (as `airring modal --bearing-nodes` does).
+            for node in nodes {
+                let before = model.supports.len();
+                model.supports.retain(|b| b.node != node);
+                if model.supports.len() < before {
+                    notes.push(format!(
+                        "the file's bearing at node {node} is replaced by an air ring bearing"
+                    ));
+                }
+            }
             if a.unbalance_c.is_some() || a.unbalance_t.is_some() {
                 return Err(
                     "--unbalance-c and --unbalance-t are the paper rotor's wheels; for a \
@@ -212,17 +255,9 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
                         .into(),
                 );
             }
-            let &[c, t] = a.bearing_nodes.as_slice() else {
-                return Err(format!(
-                    "--bearing-nodes takes two nodes, bearing C's and T's (\"C,T\"); {} given",
-                    a.bearing_nodes.len()
-                ));
-            };
-            let (model, notes) = crate::flexible::read_rotor(file)?;
-            let nodes = [c, t];
             println!(
                 "flexible rotor {}: {} shaft elements, {:.4} kg, bearings C at node {}, T at node {}",
-                file.display(),
+                file,
                 model.elements.len(),
                 model.mass_kg(),
                 nodes[0],
@@ -232,7 +267,7 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
                 println!("note: {n}");
             }
             rotor_json = serde_json::json!({
-                "file": file.display().to_string(), "elements": model.elements.len(),
+                "file": file, "elements": model.elements.len(),
                 "mass_kg": model.mass_kg(), "bearing_nodes": nodes, "notes": notes,
             });
             super::analyse_flexible(&s, model, nodes, &speeds)?

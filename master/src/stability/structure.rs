@@ -126,9 +126,9 @@ impl FlexibleRotor {
     ) -> Result<Self, String> {
         if let Some(s) = model.supports.first() {
             return Err(format!(
-                "the rotor file has linear bearings ({:?} at node {}, {} in all): the stability \
-                 analysis carries the rotor on its two air ring bearings only; remove them from \
-                 the file or name their nodes in --bearing-nodes",
+                "the rotor file has linear bearings away from the air ring bearings ({:?} at node \
+                 {}, {} in all): the stability analysis carries the rotor on its two air ring \
+                 bearings only; remove them from the file",
                 s.tag,
                 s.node,
                 model.supports.len()
