@@ -23,7 +23,6 @@ pub mod run;
 pub mod run_folder;
 pub mod runup;
 pub mod runup_cli;
-pub mod shaft_table;
 pub mod stability;
 pub mod summary;
 pub mod sweep;

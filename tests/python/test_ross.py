@@ -143,6 +143,7 @@ def test_stability_in_air_ring_bearings_carries_the_weight_ross_gives(tmp_path):
     assert p.returncode == 0, p.stderr
     v = json.loads((tmp_path / "out" / "stability.json").read_text())
     assert v["rotor"]["bearing_nodes"] == [5, 15]
+    assert (tmp_path / "out" / "rotor.svg").exists()
     weight = bare.m * 9.81
     z = bare.nodes_pos
     for sp in v["report"]["speeds"]:

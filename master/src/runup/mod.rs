@@ -83,7 +83,7 @@ pub struct RunupSettings {
     /// The design file's `[shaft]`: a flexible rotor for `airring stability` (run-ups, orbits and
     /// sweeps refuse it: they co-simulate the paper's rigid rotor).
     #[serde(skip)]
-    pub shaft: Option<crate::shaft_table::ShaftSpec>,
+    pub shaft: Option<crate::design::shaft::ShaftSpec>,
 }
 
 /// Which FMU evaluates the mixed-lubrication contact of a run-up.

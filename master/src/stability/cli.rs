@@ -2,6 +2,7 @@
 //! the figures (Campbell, damping, journal locus, eccentricity).
 
 use super::{analyse_with_equilibria, parse_speeds, StabilityReport};
+use crate::plot::Figure;
 use crate::runup::RunupSettings;
 use std::path::PathBuf;
 
@@ -234,6 +235,7 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
         )),
         (None, None) => None,
     };
+    let mut drawing: Option<shaft::ShaftModel> = None;
     let (r, solved) = match from_file {
         Some((file, mut model, nodes, mut notes)) => {
             // A linear bearing of the file at a bearing node is the bearing the air ring
@@ -270,6 +272,22 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
                 "file": file, "elements": model.elements.len(),
                 "mass_kg": model.mass_kg(), "bearing_nodes": nodes, "notes": notes,
             });
+            // The rotor as drawn (rotor.svg): its air ring bearings at their nodes.
+            let mut drawn = model.clone();
+            drawn.rings = nodes
+                .iter()
+                .zip(["C", "T"])
+                .map(|(&node, tag)| shaft::Ring {
+                    node,
+                    mass_kg: 0.0,
+                    mount_k_n_m: 0.0,
+                    mount_c_n_s_m: 0.0,
+                    film_k_n_m: [[0.0; 2]; 2],
+                    film_c_n_s_m: [[0.0; 2]; 2],
+                    tag: tag.into(),
+                })
+                .collect();
+            drawing = Some(drawn);
             super::analyse_flexible(&s, model, nodes, &speeds)?
         }
         None => analyse_with_equilibria(&s, &speeds)?,
@@ -309,6 +327,13 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
         let mut figs = super::figures::save(&r, &lobes, dir).map_err(|e| e.to_string())?;
         if let Some(u) = &unbalance {
             figs.extend(super::figures::save_unbalance(u, dir).map_err(|e| e.to_string())?);
+        }
+        if let Some(model) = &drawing {
+            figs.extend(
+                crate::flexible::rotor_drawing(model)
+                    .save(dir, "rotor")
+                    .map_err(|e| format!("figures not written: {e}"))?,
+            );
         }
         println!("wrote {} and {} figure files", path.display(), figs.len());
     }

@@ -23,6 +23,8 @@
 //! FMU parameter entries as `--set` (`film_C.C`, `rotor.c_T`, ...), so a design, a study key and a
 //! flag edit one description; the rotor's contact geometry is derived from the films (runup/mod.rs).
 
+pub mod shaft;
+
 use crate::fmu_params::FmuParameter;
 use std::path::Path;
 
@@ -52,7 +54,7 @@ pub struct Design {
     pub entries: Vec<(String, String)>,
     pub sources: Vec<String>,
     /// `[shaft]`: a flexible rotor and its bearing nodes (`airring stability`, `airring modal`).
-    pub shaft: Option<crate::shaft_table::ShaftSpec>,
+    pub shaft: Option<crate::design::shaft::ShaftSpec>,
 }
 
 impl Design {
@@ -109,7 +111,7 @@ impl Design {
                     }
                 }
                 "rotor" => d.rotor(t)?,
-                "shaft" => d.shaft = Some(crate::shaft_table::parse(t, dir)?),
+                "shaft" => d.shaft = Some(crate::design::shaft::parse(t, dir)?),
                 other => {
                     return Err(format!(
                         "unknown section [{other}] (a design has [bearing], [bearing.compressor], \
