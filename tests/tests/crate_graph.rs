@@ -230,3 +230,14 @@ fn the_shaft_crate_knows_no_fmi_and_no_air_film() {
         );
     }
 }
+
+/// The design search knows no AirRing crate: it chooses points in a design space; what a point
+/// means (an FMU parameter, a run-up) is the application's.
+#[test]
+fn the_design_search_knows_no_airring_crate() {
+    let g = graph();
+    let search = closure(&g, "design-search");
+    for other in g.keys().filter(|k| *k != "design-search") {
+        assert!(!search.contains(other), "design-search links {other}");
+    }
+}
