@@ -28,7 +28,7 @@ use crate::step_control::{
     ControlStats, StepControl, MAX_HALVINGS, RELAX_BELOW, SAVE_BURST_STEPS, SAVE_EVERY,
 };
 use crate::subsystem::Subsystem;
-use fmi2::importer::CallError;
+use fmi_core::CallError;
 use fmi_core::Status;
 use std::collections::VecDeque;
 use std::sync::Arc;

@@ -1,6 +1,6 @@
 //! Typed errors of the co-simulation library.
 
-use fmi2::importer::CallError;
+use fmi_core::CallError;
 
 /// Why a macro step failed.
 #[derive(Debug)]

@@ -10,7 +10,7 @@
 //! lives on); a member that panics on the caller's thread unwinds only after every worker has
 //! finished its job, so no worker is left holding a pointer into a member.
 
-use fmi2::importer::CallError;
+use fmi_core::CallError;
 use fmi_core::Status;
 use std::cell::UnsafeCell;
 use std::panic::{catch_unwind, AssertUnwindSafe};

@@ -20,7 +20,7 @@ use crate::setup::{parameter_value, ParamValue};
 use crate::slave::LoadedFmus;
 use crate::system::{split_port, System, SystemError};
 use fmi2::importer::ModelDescription;
-use fmi2::Causality;
+use fmi_core::variables::Causality;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::io::Write as _;
@@ -47,7 +47,7 @@ struct Component {
     /// `resources/<file>.fmu` inside the archive.
     source: String,
     /// (variable, kind, type) in the FMU's variable order.
-    connectors: Vec<(String, &'static str, fmi2::variables::VarType)>,
+    connectors: Vec<(String, &'static str, fmi_core::variables::VarType)>,
     /// (variable, value) in the system file's (sorted) order.
     parameters: Vec<(String, ParamValue)>,
 }

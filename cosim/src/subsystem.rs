@@ -2,7 +2,8 @@
 //! last macro points, and the scratch buffers that keep the macro step free of allocations.
 
 use crate::slave::{FmuState, Slave};
-use fmi2::importer::{CallError, ModelDescription};
+use fmi2::importer::ModelDescription;
+use fmi_core::CallError;
 use fmi_core::Status;
 use std::collections::VecDeque;
 use std::time::{Duration, Instant};
@@ -54,8 +55,8 @@ impl Subsystem {
                 .variables
                 .iter()
                 .filter(|v| {
-                    v.var_type == fmi2::variables::VarType::Integer
-                        && v.causality == fmi2::variables::Causality::Output
+                    v.var_type == fmi_core::variables::VarType::Integer
+                        && v.causality == fmi_core::variables::Causality::Output
                 })
                 .map(|v| (v.name.clone(), v.vr))
                 .collect(),

@@ -8,10 +8,17 @@
 //! FMI 2.0 adds Pending 5), so one [`Status::from_raw`] serves both; a message names the status
 //! in the words of the standard the failed function belongs to ("fmi3DoStep returned
 //! fmi3Discard"). The exporters (`fmi2`, `fmi3`) return the same `Status`.
+//!
+//! The exporters' shared description of a model lives here too: `variables` (the variable table,
+//! the single source of truth of an interface: value references, causality, units, start values,
+//! the GUID) and `units` (display units, values in them, a refused parameter in its units);
+//! each standard's modelDescription.xml is written from it by `fmi2::xml` and `fmi3::xml`.
 
 #[cfg(feature = "archive")]
 pub mod archive;
 pub mod states;
+pub mod units;
+pub mod variables;
 
 use std::any::Any;
 

@@ -8,8 +8,8 @@ use crate::state::{self, Mask};
 use crate::types::{fmi3InstanceEnvironment, fmi3IntermediateUpdateCallback};
 use crate::value_refs::{self, Target, TIME_VR};
 use fmi2::instance::Phase;
-use fmi2::variables::VarType;
 use fmi2::{Model, Status};
+use fmi_core::variables::VarType;
 use std::cell::{Cell, RefCell, UnsafeCell};
 
 /// Marks a live instance; checked on every call so a null or foreign pointer is refused.

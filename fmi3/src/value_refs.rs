@@ -14,8 +14,8 @@
 //! FMI 3.0 requires exactly one independent variable; the fmi2 tables have none, so the layer adds
 //! `time`. A table with `BLOCK_SIZE` or more variables of one type does not fit: `check` refuses it.
 
-use fmi2::variables::VarType;
 use fmi2::ModelInfo;
+use fmi_core::variables::VarType;
 
 /// Width of each type's block of value references.
 pub const BLOCK_SIZE: u32 = 1_000_000;
@@ -89,7 +89,7 @@ pub fn is_float64_input(info: &ModelInfo, vr3: u32) -> bool {
         Target::Variable(VarType::Real, vr) => info.variables.iter().any(|v| {
             v.var_type == VarType::Real
                 && v.vr == vr
-                && v.causality == fmi2::variables::Causality::Input
+                && v.causality == fmi_core::variables::Causality::Input
         }),
         _ => false,
     }

@@ -3,7 +3,7 @@
 //! as Integer, Boolean as Boolean. Units come from the variable or its declared type.
 
 use fmi2::importer::{ModelDescription, ScalarVariable, UnitInfo};
-use fmi2::variables::{Causality, VarType, Variability};
+use fmi_core::variables::{Causality, VarType, Variability};
 
 fn flag(node: roxmltree::Node, name: &str) -> bool {
     node.attribute(name)
