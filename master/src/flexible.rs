@@ -100,16 +100,7 @@ pub fn modal(
     unbalance: Option<Unbalance>,
     out: Option<&Path>,
 ) -> Result<serde_json::Value, String> {
-    let top = crate::runup::MAX_SPEED_HZ;
-    if let Some(f) = speeds_hz
-        .iter()
-        .find(|f| !(f.is_finite() && **f >= 0.0 && **f <= top))
-    {
-        return Err(format!(
-            "--speed {} Hz must lie between 0 and {top} Hz",
-            crate::runup::fmt_number(*f)
-        ));
-    }
+    crate::modal::check_speeds(speeds_hz)?;
     let (mut model, mut notes) = read_rotor(rotor)?;
     if let Some((nodes, flags)) = rings {
         notes.extend(add_rings(&mut model, nodes, &flags)?);

@@ -44,6 +44,21 @@ impl RingFlags {
     }
 }
 
+/// `--speed`: each between 0 and the run-ups' highest speed.
+pub(crate) fn check_speeds(speeds_hz: &[f64]) -> Result<(), String> {
+    let top = crate::runup::MAX_SPEED_HZ;
+    if let Some(f) = speeds_hz
+        .iter()
+        .find(|f| !(f.is_finite() && **f >= 0.0 && **f <= top))
+    {
+        return Err(format!(
+            "--speed {} Hz must lie between 0 and {top} Hz",
+            crate::runup::fmt_number(*f)
+        ));
+    }
+    Ok(())
+}
+
 pub fn modal(
     speeds_hz: &[f64],
     rings: &RingFlags,
@@ -56,16 +71,7 @@ pub fn modal(
         film_n_per_mm,
         m_r_g,
     } = *rings;
-    let top = crate::runup::MAX_SPEED_HZ;
-    if let Some(f) = speeds_hz
-        .iter()
-        .find(|f| !(f.is_finite() && **f >= 0.0 && **f <= top))
-    {
-        return Err(format!(
-            "--speed {} Hz must lie between 0 and {top} Hz",
-            crate::runup::fmt_number(*f)
-        ));
-    }
+    check_speeds(speeds_hz)?;
     let mut p = RotorParams::paper();
     p.c_c_n_m = c_n_per_mm * 1e3;
     p.c_t_n_m = c_n_per_mm * 1e3;
