@@ -17,7 +17,7 @@ fn a_stiff_shaft_in_the_path1_bearings_has_the_rigid_rotors_threshold_and_modes(
     let (p, _) = params_of(&s).unwrap();
     let model = master::flexible::stiff_shaft_of(&p);
     // Bearing C (compressor journal) is node 2, T node 0.
-    let (flexible, _) = analyse_flexible(&s, model, [2, 0], &speeds).unwrap();
+    let (flexible, solved, rotor) = analyse_flexible(&s, model, [2, 0], &speeds).unwrap();
     for (r, f) in rigid.speeds.iter().zip(&flexible.speeds) {
         for b in 0..2 {
             let (er, ef) = (r.bearings[b].eps, f.bearings[b].eps);
@@ -72,6 +72,47 @@ fn a_stiff_shaft_in_the_path1_bearings_has_the_rigid_rotors_threshold_and_modes(
         tf.speed_hz
     );
     assert_eq!(tr.mode.whirl, tf.mode.whirl);
+
+    // The unbalance response in the films: an imbalance at the centre of mass (the rigid rotor's
+    // compressor imbalance moved there; the flexible rotor's at the disk node), 0.1 g at 10 mm.
+    let mut s_imb = s.clone();
+    s_imb
+        .fmu_parameters
+        .push(("rotor.z_imb_C".into(), format!("{}", p.z_cm_m)));
+    s_imb.imbalance_c = (0.1, 10.0, 0.0);
+    let (p_imb, _) = params_of(&s_imb).unwrap();
+    let (rigid_r, rigid_solved) =
+        master::stability::analyse_with_equilibria(&s_imb, &speeds).unwrap();
+    let rigid_u = master::stability::unbalance::unbalance_report(
+        &p_imb,
+        [s_imb.imbalance_c, (0.0, 0.0, 0.0)],
+        &rigid_r.speeds,
+        &rigid_solved,
+    )
+    .unwrap();
+    let flex_u = master::stability::unbalance::flexible_unbalance_report(
+        &rotor,
+        (1, 0.1 * 10.0, 0.0),
+        &flexible.speeds,
+        &solved,
+    )
+    .unwrap();
+    assert_eq!(flex_u.points.len(), speeds.len());
+    for (a, b) in rigid_u.points.iter().zip(&flex_u.points) {
+        for (x, y, what) in [
+            (&a.journal_c, &b.journal_c, "J_C"),
+            (&a.journal_t, &b.journal_t, "J_T"),
+            (&a.ring_c, &b.ring_c, "R_C"),
+        ] {
+            assert!(
+                (x.semi_major_um - y.semi_major_um).abs() <= 1e-3 * x.semi_major_um,
+                "{} Hz {what}: {} vs {} um",
+                a.speed_hz,
+                x.semi_major_um,
+                y.semi_major_um
+            );
+        }
+    }
 }
 
 /// The same stiff shaft written out as a design file's `[shaft]` table (units as an engineer

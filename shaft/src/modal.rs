@@ -228,7 +228,23 @@ pub fn unbalance_response(
             "the imbalance's magnitude, phase and speed must be finite numbers".into(),
         ));
     }
-    let mm = model.matrices();
+    unbalance_response_of(
+        &model.matrices(),
+        node,
+        magnitude_kg_m,
+        phase_rad,
+        speed_rad_s,
+    )
+}
+
+/// `unbalance_response` of assembled matrices (node and values checked by the caller).
+pub fn unbalance_response_of(
+    mm: &Matrices,
+    node: usize,
+    magnitude_kg_m: f64,
+    phase_rad: f64,
+    speed_rad_s: f64,
+) -> Result<Vec<C64>, ShaftError> {
     let n = mm.n;
     let w = speed_rad_s;
     let z = faer::Mat::<C64>::from_fn(n, n, |i, j| {

@@ -33,6 +33,16 @@ pub struct StabilityArgs {
     /// not apply. A design file's [shaft] table does the same without --rotor.
     #[arg(long, requires = "bearing_nodes")]
     pub rotor: Option<PathBuf>,
+    /// A flexible rotor's imbalance [g mm] (mass times radius) at --unbalance-node: adds the
+    /// unbalance response in the films (their coefficients at each speed's own frequency).
+    #[arg(long, requires = "unbalance_node")]
+    pub unbalance: Option<f64>,
+    /// The node of --unbalance.
+    #[arg(long, requires = "unbalance")]
+    pub unbalance_node: Option<usize>,
+    /// The phase of --unbalance [deg].
+    #[arg(long, default_value_t = 0.0, requires = "unbalance")]
+    pub unbalance_phase: f64,
     /// With --rotor: the nodes of bearings C and T, "C,T".
     #[arg(long, value_delimiter = ',', num_args = 1.., requires = "rotor")]
     pub bearing_nodes: Vec<usize>,
@@ -55,10 +65,16 @@ pub fn settings(a: &StabilityArgs) -> Result<RunupSettings, String> {
 
 fn print_unbalance(u: &super::unbalance::UnbalanceReport) {
     let (c, t) = (u.imbalance_c, u.imbalance_t);
-    println!(
-        "unbalance response: compressor {} g at {} mm, {} deg; turbine {} g at {} mm, {} deg",
-        c.0, c.1, c.2, t.0, t.1, t.2
-    );
+    match u.imbalance_at_node {
+        Some((node, g_mm, deg)) => println!(
+            "unbalance response: {g_mm} g mm at node {node}, {deg} deg (J_C, J_T: the journals \
+             at bearings C and T)"
+        ),
+        None => println!(
+            "unbalance response: compressor {} g at {} mm, {} deg; turbine {} g at {} mm, {} deg",
+            c.0, c.1, c.2, t.0, t.1, t.2
+        ),
+    }
     println!(
         "orbit semi-major axes [um] (journals, rings, journal relative to ring); x phase [deg]"
     );
@@ -236,6 +252,7 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
         (None, None) => None,
     };
     let mut drawing: Option<shaft::ShaftModel> = None;
+    let mut flexible: Option<super::structure::FlexibleRotor> = None;
     let (r, solved) = match from_file {
         Some((file, mut model, nodes, mut notes)) => {
             // A linear bearing of the file at a bearing node is the bearing the air ring
@@ -251,9 +268,8 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
             }
             if a.unbalance_c.is_some() || a.unbalance_t.is_some() {
                 return Err(
-                    "--unbalance-c and --unbalance-t are the paper rotor's wheels; for a \
-                            flexible rotor the unbalance response is `airring modal --rotor FILE \
-                            --unbalance G_MM --unbalance-node N`"
+                    "--unbalance-c and --unbalance-t are the paper rotor's wheels; a flexible \
+                     rotor's imbalance is --unbalance G_MM --unbalance-node N"
                         .into(),
                 );
             }
@@ -288,12 +304,44 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
                 })
                 .collect();
             drawing = Some(drawn);
-            super::analyse_flexible(&s, model, nodes, &speeds)?
+            let (r, solved, rotor) = super::analyse_flexible(&s, model, nodes, &speeds)?;
+            flexible = Some(rotor);
+            (r, solved)
         }
         None => analyse_with_equilibria(&s, &speeds)?,
     };
     print_table(&s, &r);
-    let unbalance = if a.unbalance_c.is_some() || a.unbalance_t.is_some() {
+    let unbalance = if let Some(g_mm) = a.unbalance {
+        let Some(rotor) = &flexible else {
+            return Err(
+                "--unbalance and --unbalance-node are a flexible rotor's (--rotor or a \
+                        design's [shaft]); the paper rotor's wheels take --unbalance-c and \
+                        --unbalance-t"
+                    .into(),
+            );
+        };
+        let node = a.unbalance_node.unwrap_or(0);
+        if node >= rotor.model.n_nodes() {
+            return Err(format!(
+                "--unbalance-node {node} is off the shaft (nodes 0 to {})",
+                rotor.model.n_nodes() - 1
+            ));
+        }
+        if !(g_mm.is_finite() && g_mm > 0.0 && a.unbalance_phase.is_finite()) {
+            return Err(format!(
+                "--unbalance {} g mm must be a finite number > 0 (and --unbalance-phase finite)",
+                crate::runup::fmt_number(g_mm)
+            ));
+        }
+        let u = super::unbalance::flexible_unbalance_report(
+            rotor,
+            (node, g_mm, a.unbalance_phase),
+            &r.speeds,
+            &solved,
+        )?;
+        print_unbalance(&u);
+        Some(u)
+    } else if a.unbalance_c.is_some() || a.unbalance_t.is_some() {
         let (rotor, _) = super::params_of(&s)?;
         let u = super::unbalance::unbalance_report(
             &rotor,

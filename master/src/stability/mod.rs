@@ -253,7 +253,14 @@ pub fn analyse_flexible(
     model: shaft::ShaftModel,
     bearing_nodes: [usize; 2],
     speeds_hz: &[f64],
-) -> Result<(StabilityReport, Vec<[SolvedBearing; 2]>), String> {
+) -> Result<
+    (
+        StabilityReport,
+        Vec<[SolvedBearing; 2]>,
+        structure::FlexibleRotor,
+    ),
+    String,
+> {
     let t0 = std::time::Instant::now();
     let (p, films) = checked_params(s, speeds_hz)?;
     let mut rotor = structure::FlexibleRotor::new(
@@ -266,7 +273,8 @@ pub fn analyse_flexible(
         p.g_m_s2,
     )?;
     rotor.cap_hz = crate::flexible::campbell_cap_hz(speeds_hz);
-    analyse_rotor(&rotor, &films, s, speeds_hz, t0)
+    let (report, solved) = analyse_rotor(&rotor, &films, s, speeds_hz, t0)?;
+    Ok((report, solved, rotor))
 }
 
 fn analyse_rotor<R: LinearRotor>(

@@ -202,6 +202,34 @@ impl FlexibleRotor {
         mm
     }
 
+    /// The synchronous response to an imbalance `me_kg_m` at `node` (phase `phase_rad`) spinning at
+    /// `omega_rad_s`, the films at the given coefficients: the complex amplitudes (x, y) of the
+    /// journals and rings [C, T].
+    pub fn synchronous_response(
+        &self,
+        omega_rad_s: f64,
+        films: &[FilmCoefficients; 2],
+        node: usize,
+        me_kg_m: f64,
+        phase_rad: f64,
+    ) -> Result<[[shaft::eigen::C64; 2]; 4], String> {
+        let q = shaft::modal::unbalance_response_of(
+            &self.matrices(films),
+            node,
+            me_kg_m,
+            phase_rad,
+            omega_rad_s,
+        )
+        .map_err(|e| e.to_string())?;
+        let at = |i: usize| [q[i], q[i + 1]];
+        Ok([
+            at(self.journal[0]),
+            at(self.journal[1]),
+            at(self.ring[0]),
+            at(self.ring[1]),
+        ])
+    }
+
     fn describe(&self, m: &shaft::Mode) -> String {
         let size = |x: usize| fmu_rotor::forced::semi_major_axis(&[m.shape[x], m.shape[x + 1]]);
         let nodes: Vec<f64> = (0..self.model.n_nodes())

@@ -72,8 +72,20 @@ pub struct UnbalanceReport {
     /// Each wheel's imbalance: mass [g], radius [mm], phase [deg] (compressor, turbine).
     pub imbalance_c: (f64, f64, f64),
     pub imbalance_t: (f64, f64, f64),
+    /// A flexible rotor's imbalance: node, size [g mm], phase [deg] (the wheels' are then 0).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub imbalance_at_node: Option<(usize, f64, f64)>,
     pub points: Vec<UnbalancePoint>,
     pub critical_speeds: Vec<CriticalSpeed>,
+}
+
+/// A film's coefficients about its equilibrium at whirl frequency `w` [rad/s].
+fn film_at(b: &SolvedBearing, w: f64) -> Result<FilmCoefficients, String> {
+    let (k, d) = b.lin.impedance(w).map_err(|e| e.to_string())?;
+    Ok(FilmCoefficients {
+        k_n_m: k,
+        d_n_s_m: d,
+    })
 }
 
 /// The response at `speed_hz` about the equilibria `eq` ([C, T]).
@@ -83,14 +95,7 @@ pub fn response_at(
     eq: &[SolvedBearing; 2],
 ) -> Result<ForcedResponse, String> {
     let w = TAU * speed_hz;
-    let film = |b: &SolvedBearing| -> Result<FilmCoefficients, String> {
-        let (k, d) = b.lin.impedance(w).map_err(|e| e.to_string())?;
-        Ok(FilmCoefficients {
-            k_n_m: k,
-            d_n_s_m: d,
-        })
-    };
-    let films = [film(&eq[0])?, film(&eq[1])?];
+    let films = [film_at(&eq[0], w)?, film_at(&eq[1], w)?];
     let lm = lateral_matrices(rotor, w, &films);
     forced_response(&lm, &imbalance_force(rotor, w)).map_err(|e| format!("at {speed_hz} Hz: {e}"))
 }
@@ -117,6 +122,17 @@ pub fn unbalance_report(
             unstable: sp.max_growth_per_s() > 0.0,
         });
     }
+    Ok(UnbalanceReport {
+        imbalance_c: imbalance[0],
+        imbalance_t: imbalance[1],
+        imbalance_at_node: None,
+        critical_speeds: critical_speeds_of(&points),
+        points,
+    })
+}
+
+/// The peaks of each journal's response over the grid, by speed.
+fn critical_speeds_of(points: &[UnbalancePoint]) -> Vec<CriticalSpeed> {
     let mut critical_speeds = vec![];
     for (name, amp) in [
         (
@@ -142,11 +158,43 @@ pub fn unbalance_report(
         }));
     }
     critical_speeds.sort_by(|a, b| a.speed_hz.total_cmp(&b.speed_hz));
+    critical_speeds
+}
+
+/// The report of a flexible rotor with an imbalance of `g_mm` [g mm] at `node`, phase
+/// `phase_deg`, over the speeds of its stability analysis (equilibria `solved`, same order): the
+/// films at each speed's own frequency (synchronous, forward).
+pub fn flexible_unbalance_report(
+    rotor: &super::structure::FlexibleRotor,
+    (node, g_mm, phase_deg): (usize, f64, f64),
+    speeds: &[SpeedResult],
+    solved: &[[SolvedBearing; 2]],
+) -> Result<UnbalanceReport, String> {
+    let mut points = Vec::with_capacity(speeds.len());
+    for (sp, eq) in speeds.iter().zip(solved) {
+        let w = TAU * sp.speed_hz;
+        let films = [film_at(&eq[0], w)?, film_at(&eq[1], w)?];
+        let [jc, jt, rc, rt] = rotor
+            .synchronous_response(w, &films, node, g_mm * 1e-6, phase_deg.to_radians())
+            .map_err(|e| format!("at {} Hz: {e}", sp.speed_hz))?;
+        let rel = |j: &[C64; 2], g: &[C64; 2]| semi_major_axis(&[j[0] - g[0], j[1] - g[1]]) * 1e6;
+        points.push(UnbalancePoint {
+            speed_hz: sp.speed_hz,
+            journal_c: PointMotion::of(&jc),
+            journal_t: PointMotion::of(&jt),
+            ring_c: PointMotion::of(&rc),
+            ring_t: PointMotion::of(&rt),
+            film_c_um: rel(&jc, &rc),
+            film_t_um: rel(&jt, &rt),
+            unstable: sp.max_growth_per_s() > 0.0,
+        });
+    }
     Ok(UnbalanceReport {
-        imbalance_c: imbalance[0],
-        imbalance_t: imbalance[1],
+        imbalance_c: (0.0, 0.0, 0.0),
+        imbalance_t: (0.0, 0.0, 0.0),
+        imbalance_at_node: Some((node, g_mm, phase_deg)),
+        critical_speeds: critical_speeds_of(&points),
         points,
-        critical_speeds,
     })
 }
 
