@@ -19,22 +19,10 @@ const NO_CONVERGENCE: &str = "QR eigenvalue iteration did not converge";
 /// Balancing of a state matrix (the `shaft` crate's, shared with the flexible rotor).
 pub use shaft::eigen::balance;
 
-fn view(n: usize, a: &[f64]) -> faer::MatRef<'_, f64> {
-    faer::MatRef::from_row_major_slice(a, n, n)
-}
-
 /// Eigenvalues of the row-major n x n matrix `a` (balanced first). Complex ones come in exactly
 /// conjugate pairs, real ones have an imaginary part of exactly 0.
 pub fn eigenvalues(n: usize, a: &[f64]) -> Result<Vec<C64>, RotorError> {
-    let mut b = a.to_vec();
-    balance(n, &mut b);
-    let ev = view(n, &b)
-        .eigenvalues()
-        .map_err(|_| RotorError::Singular(NO_CONVERGENCE))?;
-    if ev.iter().any(|l| !(l.re.is_finite() && l.im.is_finite())) {
-        return Err(RotorError::Singular(NO_CONVERGENCE));
-    }
-    Ok(ev)
+    shaft::eigen::eigenvalues(n, a).ok_or(RotorError::Singular(NO_CONVERGENCE))
 }
 
 /// Eigenvalues of the row-major n x n matrix `a` (balanced first) with their eigenvectors, each

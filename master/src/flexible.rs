@@ -404,26 +404,25 @@ pub fn rotor_drawing(model: &ShaftModel) -> Chart {
         );
     }
     let below = -1.25 * mm(r_max);
-    for s in &model.supports {
-        let zs = mm(z[s.node]);
-        c.line(
-            [(zs, below), (zs, below * 0.8)],
-            Rgb::GREY,
-            3.0,
-            false,
-            Role::Marker,
-            &format!("bearing {}", s.tag),
+    let bearings = model
+        .supports
+        .iter()
+        .map(|s| (s.node, Rgb::GREY, format!("bearing {}", s.tag)))
+        .chain(
+            model
+                .rings
+                .iter()
+                .map(|r| (r.node, Rgb::BLUE, format!("air ring bearing {}", r.tag))),
         );
-    }
-    for r in &model.rings {
-        let zs = mm(z[r.node]);
+    for (node, colour, name) in bearings {
+        let zs = mm(z[node]);
         c.line(
             [(zs, below), (zs, below * 0.8)],
-            Rgb::BLUE,
+            colour,
             3.0,
             false,
             Role::Marker,
-            &format!("air ring bearing {}", r.tag),
+            &name,
         );
     }
     // Node numbers, thinned to at least 40 px apart (the plot spans about 700 px).

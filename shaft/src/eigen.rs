@@ -60,6 +60,17 @@ pub fn balance(n: usize, a: &mut [f64]) -> Vec<f64> {
     d
 }
 
+/// The component of largest modulus (the first of equal ones); 0 for an empty vector.
+pub fn largest(v: &[C64]) -> C64 {
+    v.iter().copied().fold(C64::new(0.0, 0.0), |acc, z| {
+        if z.norm() > acc.norm() {
+            z
+        } else {
+            acc
+        }
+    })
+}
+
 /// Eigenvalues of the row-major n x n matrix `a` (balanced first); complex ones in exactly
 /// conjugate pairs, real ones with an imaginary part of exactly 0. `None` if the QR iteration does
 /// not converge or gives a value that is not finite.
@@ -86,13 +97,7 @@ pub fn eigenpairs(n: usize, a: &[f64]) -> Option<Vec<(C64, Vec<C64>)>> {
     for j in 0..n {
         let lam = s[j];
         let mut v: Vec<C64> = u.col(j).iter().zip(&d).map(|(y, di)| y * di).collect();
-        let big = v.iter().copied().fold(C64::new(0.0, 0.0), |acc, z| {
-            if z.norm() > acc.norm() {
-                z
-            } else {
-                acc
-            }
-        });
+        let big = largest(&v);
         let size = big.norm();
         if !(size > 0.0 && size.is_finite() && lam.re.is_finite() && lam.im.is_finite()) {
             return None;

@@ -58,13 +58,7 @@ pub fn modes_of(mm: &Matrices, speed_rad_s: f64) -> Result<Vec<Mode>, ShaftError
             let wn = l.norm();
             let zeta = -l.re / wn;
             let mut shape: Vec<C64> = v[..n].to_vec();
-            let big = shape.iter().copied().fold(C64::new(0.0, 0.0), |acc, z| {
-                if z.norm() > acc.norm() {
-                    z
-                } else {
-                    acc
-                }
-            });
+            let big = crate::eigen::largest(&shape);
             if big.norm() > 0.0 {
                 for z in shape.iter_mut() {
                     *z /= big;

@@ -274,18 +274,30 @@ impl ShaftModel {
                 out.m[(q + a) * n + q + a] += r.mass_kg;
                 out.k[(q + a) * n + q + a] += r.mount_k_n_m;
                 out.c[(q + a) * n + q + a] += r.mount_c_n_s_m;
-                for b in 0..2 {
-                    // Film between journal (j) and ring (q): [[K, -K], [-K, K]].
-                    for (mat, f) in [(&mut out.k, r.film_k_n_m), (&mut out.c, r.film_c_n_s_m)] {
-                        mat[(j + a) * n + j + b] += f[a][b];
-                        mat[(j + a) * n + q + b] -= f[a][b];
-                        mat[(q + a) * n + j + b] -= f[a][b];
-                        mat[(q + a) * n + q + b] += f[a][b];
-                    }
+            }
+            out.add_film(j, q, &r.film_k_n_m, &r.film_c_n_s_m);
+        }
+        out
+    }
+}
+
+impl Matrices {
+    /// Adds a film's stiffness `k` and damping `c` (2 x 2, row = force, column = displacement)
+    /// between the coordinates (x, y) starting at `journal` and at `ring`: [[K, -K], [-K, K]]
+    /// (the film pushes journal and ring apart alike).
+    pub fn add_film(&mut self, journal: usize, ring: usize, k: &[[f64; 2]; 2], c: &[[f64; 2]; 2]) {
+        let n = self.n;
+        let (j, q) = (journal, ring);
+        for a in 0..2 {
+            for b in 0..2 {
+                for (mat, v) in [(&mut self.k, k[a][b]), (&mut self.c, c[a][b])] {
+                    mat[(j + a) * n + j + b] += v;
+                    mat[(j + a) * n + q + b] -= v;
+                    mat[(q + a) * n + j + b] -= v;
+                    mat[(q + a) * n + q + b] += v;
                 }
             }
         }
-        out
     }
 }
 

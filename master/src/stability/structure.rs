@@ -185,19 +185,8 @@ impl FlexibleRotor {
 
     fn matrices(&self, films: &[FilmCoefficients; 2]) -> Matrices {
         let mut mm = self.base.clone();
-        let n = mm.n;
         for (i, f) in films.iter().enumerate() {
-            let (j, q) = (self.journal[i], self.ring[i]);
-            for a in 0..2 {
-                for b in 0..2 {
-                    for (mat, v) in [(&mut mm.k, f.k_n_m[a][b]), (&mut mm.c, f.d_n_s_m[a][b])] {
-                        mat[(j + a) * n + j + b] += v;
-                        mat[(j + a) * n + q + b] -= v;
-                        mat[(q + a) * n + j + b] -= v;
-                        mat[(q + a) * n + q + b] += v;
-                    }
-                }
-            }
+            mm.add_film(self.journal[i], self.ring[i], &f.k_n_m, &f.d_n_s_m);
         }
         mm
     }
