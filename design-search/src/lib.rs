@@ -94,6 +94,37 @@ pub fn best_feasible(evals: &[Evaluation]) -> Option<&Evaluation> {
         .min_by(|a, b| a.objective.total_cmp(&b.objective))
 }
 
+/// The objective and constraints of `evals` as the surrogates take them: an evaluation that
+/// could not be completed (a failed run, no equilibrium) has non-finite values, which a Gaussian
+/// process cannot hold. Its objective becomes the worst (largest) finite objective seen and each
+/// non-finite constraint the larger of 1 and the worst finite value of that constraint: such a
+/// point counts as bad and as infeasible, so the search moves away from it.
+pub fn surrogate_data(evals: &[Evaluation], n_constraints: usize) -> Array2<f64> {
+    let worst = |values: &mut dyn Iterator<Item = f64>| -> Option<f64> {
+        values.filter(|v| v.is_finite()).reduce(f64::max)
+    };
+    let worst_objective = worst(&mut evals.iter().map(|e| e.objective)).unwrap_or(0.0);
+    let worst_constraint: Vec<f64> = (0..n_constraints)
+        .map(|j| {
+            worst(&mut evals.iter().map(|e| e.constraints[j]))
+                .unwrap_or(1.0)
+                .max(1.0)
+        })
+        .collect();
+    Array2::from_shape_fn((evals.len(), 1 + n_constraints), |(i, j)| {
+        let (v, fallback) = if j == 0 {
+            (evals[i].objective, worst_objective)
+        } else {
+            (evals[i].constraints[j - 1], worst_constraint[j - 1])
+        };
+        if v.is_finite() {
+            v
+        } else {
+            fallback
+        }
+    })
+}
+
 /// How to choose the points.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
@@ -213,13 +244,7 @@ pub fn search(
                 let x = Array2::from_shape_fn((evals.len(), dim), |(i, j)| {
                     variables[j].unit(evals[i].x[j])
                 });
-                let y = Array2::from_shape_fn((evals.len(), 1 + n_constraints), |(i, j)| {
-                    if j == 0 {
-                        evals[i].objective
-                    } else {
-                        evals[i].constraints[j - 1]
-                    }
-                });
+                let y = surrogate_data(&evals, n_constraints);
                 let asked = egor.suggest(&x, &y);
                 let want = budget - evals.len();
                 let next: Vec<Vec<f64>> = asked
@@ -235,4 +260,31 @@ pub fn search(
         }
     }
     Ok(evals)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn failed_evaluations_reach_the_surrogates_as_the_worst_values_seen() {
+        let e = |objective: f64, c: f64| Evaluation {
+            x: vec![0.0],
+            objective,
+            constraints: vec![c],
+        };
+        let evals = [
+            e(2.0, -0.5),
+            e(f64::NAN, f64::INFINITY),
+            e(5.0, 3.0),
+            e(1.0, f64::NAN),
+        ];
+        let y = surrogate_data(&evals, 1);
+        assert_eq!(y.column(0).to_vec(), vec![2.0, 5.0, 5.0, 1.0]);
+        assert_eq!(y.column(1).to_vec(), vec![-0.5, 3.0, 3.0, 3.0]);
+        // With only feasible finite constraints, a failed point is still infeasible (1 > 0).
+        let y = surrogate_data(&[e(1.0, -2.0), e(f64::NAN, f64::NAN)], 1);
+        assert_eq!(y.column(1).to_vec(), vec![-2.0, 1.0]);
+        assert_eq!(y.column(0).to_vec(), vec![1.0, 1.0]);
+    }
 }

@@ -14,6 +14,7 @@ pub mod flexible;
 pub mod fmu_params;
 pub mod linear_cache;
 pub mod modal;
+pub mod optimize;
 pub mod orbit;
 pub mod orbits;
 pub mod out_folder;

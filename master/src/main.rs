@@ -58,6 +58,12 @@ enum Command {
     /// multipliers, and the branch continued in speed to its Hopf point (orbits.json).
     #[command(allow_negative_numbers = true)]
     Orbits(commands::orbits::Args),
+    /// Which design to build: a search over design variables for the design that best meets an
+    /// objective while the requirement (film thickness, whirl amplitude, class over a speed
+    /// range) holds at every tolerance corner; the recommendation verified on a finer film mesh
+    /// (evaluations.csv, optimum.json, recommended.toml, report.html); resumable.
+    #[command(allow_negative_numbers = true)]
+    Optimize(commands::optimize::Args),
     /// Write a system file as an SSP 1.0 archive (SystemStructure.ssd + the FMUs) for other tools.
     ExportSsp(master::export_ssp::ExportSspArgs),
 }
@@ -101,6 +107,7 @@ fn main() -> ExitCode {
         Command::Orbit(a) => done(master::orbit::run_cli(&a)),
         Command::ExportSsp(a) => done(master::export_ssp::run_cli(&a)),
         Command::Orbits(a) => commands::orbits::execute(a),
+        Command::Optimize(a) => commands::optimize::execute(a),
     };
     match result {
         Ok(code) => code,

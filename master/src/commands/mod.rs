@@ -4,6 +4,7 @@
 
 pub mod classify;
 pub mod modal;
+pub mod optimize;
 pub mod orbits;
 pub mod resume;
 pub mod run;

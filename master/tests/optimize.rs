@@ -1,0 +1,167 @@
+//! `airring optimize` end to end on the packed FMUs (`cargo xtask fmus` first): a small problem
+//! (two variables, a clearance tolerance, path 1 run up to 700 Hz through its threshold) searched
+//! with six evaluations and verified; its outputs consistent with each other; a second
+//! invocation resumes without running anything; a larger budget continues; another problem in
+//! the same folder and a bad file are refused.
+
+mod common;
+
+use common::{airring, root};
+use std::path::Path;
+
+const PROBLEM: &str = r#"
+name = "fast"
+[base]
+preset = "path1"
+f_max = 700
+t_ramp = 0.5
+[variables]
+clearance = { min = 15, max = 25 }
+c = { min = 300, max = 1500, scale = "log" }
+[requirement]
+min_film_um = 3.0
+max_whirl_um = 1.0
+speed_range_hz = [300, 700]
+[tolerances]
+clearance = 1
+[objective]
+maximize = "clearance"
+[search]
+budget = 6
+initial = 4
+batch = 2
+[verify]
+t_ramp = 0.5
+mesh = "12x4"
+"#;
+
+fn rows(dir: &Path) -> Vec<Vec<String>> {
+    let text = std::fs::read_to_string(dir.join("evaluations.csv")).unwrap();
+    let mut out = vec![];
+    for line in text.lines().skip(1) {
+        // The reason (last field) may be quoted and hold commas; the others do not.
+        let fields: Vec<String> = line.splitn(13, ',').map(String::from).collect();
+        out.push(fields);
+    }
+    out
+}
+
+fn json(path: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+#[test]
+fn a_small_problem_is_searched_verified_resumed_and_continued() {
+    assert!(
+        root().join("target/fmu/rotor.fmu").exists(),
+        "run `cargo xtask fmus` first"
+    );
+    let base = common::tmp("optimize", "fast");
+    std::fs::create_dir_all(&base).unwrap();
+    let file = base.join("fast.toml");
+    std::fs::write(&file, PROBLEM).unwrap();
+    let out = base.join("out");
+    let (f, o) = (file.to_str().unwrap(), out.to_str().unwrap());
+    let (ok, err) = airring(&["optimize", f, "--out", o, "--jobs", "2", "--quiet"]);
+    assert!(ok, "{err}");
+    let table = rows(&out);
+    assert_eq!(table.len(), 6, "{table:?}");
+    // Columns: index, C, c, stage, feasible, film, whirl, threshold, power, margin, objective,
+    // run-ups, reason.
+    let mut best_feasible = f64::NEG_INFINITY;
+    for r in &table {
+        let (c, stage, feasible) = (r[1].parse::<f64>().unwrap(), &r[3], &r[4] == "true");
+        assert!((15.0..=25.0).contains(&c), "{r:?}");
+        assert!(stage == "linear" || stage == "nonlinear", "{r:?}");
+        let runs: usize = r[11].parse().unwrap();
+        // A candidate goes to run-ups only where the linear stage left a corner open.
+        assert_eq!(stage == "nonlinear", runs > 0, "{r:?}");
+        if let Ok(film) = r[5].parse::<f64>() {
+            // The film can be no thicker than the clearance plus the step and ring travel
+            // allow: a sanity bound on what was read from the run folders.
+            assert!(film > 0.0 && film < c + 40.0, "{r:?}");
+            assert_eq!(
+                feasible,
+                r[12].starts_with("all ") || r[12].contains("again: all"),
+                "{r:?}"
+            );
+            if feasible {
+                assert!(film >= 3.0, "{r:?}");
+                best_feasible = best_feasible.max(c);
+            }
+        }
+    }
+    let optimum = json(&out.join("optimum.json"));
+    let rec = &optimum["recommended"];
+    assert_eq!(
+        rec["variables"]["clearance"]["value"].as_f64().unwrap(),
+        best_feasible,
+        "the recommendation is the feasible candidate with the largest clearance"
+    );
+    assert_eq!(rec["corners"].as_array().unwrap().len(), 3);
+    // Verified at its three corners on both meshes; the two meshes agree within 5 % in film
+    // thickness (a mesh error above that would leave the recommendation resting on the mesh).
+    let v = &optimum["verification"];
+    assert_eq!(v["corners"].as_array().unwrap().len(), 3, "{v}");
+    let film = v["min_film_um"].as_f64().unwrap();
+    assert!(v["film_error_um"].as_f64().unwrap() < 0.05 * film, "{v}");
+    assert_eq!(
+        v["verified"].as_bool().unwrap() && v["resolved"].as_bool().unwrap(),
+        err.contains("(verified)"),
+        "{err}"
+    );
+    let design = std::fs::read_to_string(out.join("recommended.toml")).unwrap();
+    let c = rec["variables"]["clearance"]["value"].as_f64().unwrap();
+    assert!(design.contains(&format!("C = \"{c} um\"")), "{design}");
+    let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(page.contains("<h2>Recommended: C = "), "{page}");
+    assert!(out.join("safe_set_clearance_c.svg").exists());
+
+    // Again: everything is there, nothing runs.
+    let before = std::fs::read_to_string(out.join("evaluations.jsonl")).unwrap();
+    let (ok, err) = airring(&["optimize", f, "--out", o, "--jobs", "2"]);
+    assert!(ok, "{err}");
+    assert!(err.contains("budget 6, 6 evaluated before"), "{err}");
+    assert!(!err.contains("round "), "{err}");
+    assert!(err.contains("already completed, 0 to run"), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(out.join("evaluations.jsonl")).unwrap(),
+        before
+    );
+
+    // A larger budget continues the search.
+    let (ok, err) = airring(&[
+        "optimize",
+        f,
+        "--out",
+        o,
+        "--budget",
+        "7",
+        "--no-verify",
+        "--quiet",
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(rows(&out).len(), 7);
+
+    // Another problem into the same folder is refused; so is a bad file.
+    let other = base.join("other.toml");
+    std::fs::write(
+        &other,
+        PROBLEM.replace("min_film_um = 3.0", "min_film_um = 4.0"),
+    )
+    .unwrap();
+    let (ok, err) = airring(&["optimize", other.to_str().unwrap(), "--out", o]);
+    assert!(!ok && err.contains("holds another optimisation"), "{err}");
+    std::fs::write(
+        &other,
+        PROBLEM.replace("c = { min = 300", "cc = { min = 300"),
+    )
+    .unwrap();
+    let (ok, err) = airring(&["optimize", other.to_str().unwrap(), "--out", o]);
+    assert!(!ok, "{err}");
+    assert!(
+        err.contains("other.toml: [variables] 'cc' is no design quantity"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&base);
+}
