@@ -165,3 +165,70 @@ fn a_small_problem_is_searched_verified_resumed_and_continued() {
     );
     let _ = std::fs::remove_dir_all(&base);
 }
+
+/// With --external-runs the run-ups are left to another runner (here `airring sweep`, as Dask
+/// or Slurm would run the same study file): the command exits with status 3 and the study's
+/// path on stdout until they are done, and then gives the same evaluations as running them
+/// itself.
+#[test]
+fn run_ups_left_to_another_runner_give_the_same_evaluations() {
+    let base = common::tmp("optimize", "external");
+    std::fs::create_dir_all(&base).unwrap();
+    let file = base.join("fast.toml");
+    let problem = PROBLEM
+        .replace("budget = 6", "budget = 4")
+        .replace("name = \"fast\"", "name = \"ext\"");
+    std::fs::write(&file, problem).unwrap();
+    let f = file.to_str().unwrap();
+    let own = base.join("own");
+    let (ok, err) = airring(&[
+        "optimize",
+        f,
+        "--out",
+        own.to_str().unwrap(),
+        "--no-verify",
+        "--quiet",
+    ]);
+    assert!(ok, "{err}");
+    let ext = base.join("ext");
+    let mut handed_over = 0;
+    loop {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_airring"))
+            .args([
+                "optimize",
+                f,
+                "--out",
+                ext.to_str().unwrap(),
+                "--no-verify",
+                "--quiet",
+            ])
+            .arg("--external-runs")
+            .current_dir(root())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        match out.status.code() {
+            Some(0) => break,
+            Some(3) => {
+                handed_over += 1;
+                assert!(handed_over < 5, "{err}");
+                let study = String::from_utf8_lossy(&out.stdout).trim().to_string();
+                assert!(study.ends_with("nonlinear/study.toml"), "{study}");
+                assert!(err.contains("run-ups wait in"), "{err}");
+                let folder = Path::new(&study)
+                    .parent()
+                    .unwrap()
+                    .to_str()
+                    .unwrap()
+                    .to_string();
+                let (ok, err) = airring(&["sweep", &study, "--out", &folder, "--quiet"]);
+                assert!(ok, "{err}");
+            }
+            code => panic!("exit {code:?}: {err}"),
+        }
+    }
+    assert!(handed_over >= 1, "the problem's first round needs run-ups");
+    let table = |d: &Path| std::fs::read_to_string(d.join("evaluations.csv")).unwrap();
+    assert_eq!(table(&own), table(&ext));
+    let _ = std::fs::remove_dir_all(&base);
+}

@@ -27,6 +27,12 @@ pub struct Args {
     /// No progress lines (each round's summary is still printed).
     #[arg(long)]
     pub quiet: bool,
+    /// Leave the run-ups to another runner (Dask, Slurm, `airring sweep`): when a round needs
+    /// run-ups that are not in the output folder yet, write their study file, print its path on
+    /// standard output and exit with status 3; run that study into its own folder, then this
+    /// command again (docs/howto/optimize.md).
+    #[arg(long)]
+    pub external_runs: bool,
 }
 
 pub fn execute(a: Args) -> Result<ExitCode, String> {
@@ -56,8 +62,23 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
         quiet: a.quiet,
         stop: stop_flag(),
         no_verify: a.no_verify,
+        external_runs: a.external_runs,
     };
     let r = master::optimize::optimize(&problem, &text, &opts)?;
+    if let Some((study, n)) = &r.pending {
+        let folder = study.parent().unwrap_or(std::path::Path::new("."));
+        eprintln!(
+            "optimize: {} evaluations so far; {n} run-ups wait in {}: run them into {} (airring \
+             sweep {} --out {}, scripts/dask_sweep.py, or Slurm shards), then this command again",
+            r.candidates.len(),
+            study.display(),
+            folder.display(),
+            study.display(),
+            folder.display()
+        );
+        println!("{}", study.display());
+        return Ok(ExitCode::from(3));
+    }
     let verdict = match (&r.best, &r.verification) {
         (None, _) => "no design meets the requirement".to_string(),
         (Some(b), v) => {

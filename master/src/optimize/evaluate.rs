@@ -26,6 +26,18 @@ use std::path::Path;
 /// lie within a few percent of the paper mesh's (docs/stability.md).
 pub const LINEAR_MARGIN: f64 = 0.10;
 
+/// serde_json writes a NaN (a quantity not measured) as null: read back as NaN.
+fn nan_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<f64, D::Error> {
+    Ok(Option::<f64>::deserialize(d)?.unwrap_or(f64::NAN))
+}
+
+fn nans_if_null<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<f64>, D::Error> {
+    Ok(Vec::<Option<f64>>::deserialize(d)?
+        .into_iter()
+        .map(|v| v.unwrap_or(f64::NAN))
+        .collect())
+}
+
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum Stage {
@@ -41,8 +53,10 @@ pub struct LinearResult {
     /// Unstable from the lowest speed of the range on.
     pub unstable_from_start: bool,
     /// The smallest static film thickness over the range, both bearings [um].
+    #[serde(deserialize_with = "nan_if_null")]
     pub static_film_um: f64,
     /// Friction power of both films at the operating speed [W].
+    #[serde(deserialize_with = "nan_if_null")]
     pub power_loss_w: f64,
     pub error: Option<String>,
 }
@@ -55,8 +69,10 @@ pub struct NonlinearResult {
     pub class: Option<String>,
     pub onset_hz: Option<f64>,
     /// The smallest film thickness within the speed range, run-up and run-down [um].
+    #[serde(deserialize_with = "nan_if_null")]
     pub min_film_um: f64,
     /// The largest whirl amplitude within the speed range [um].
+    #[serde(deserialize_with = "nan_if_null")]
     pub whirl_um: f64,
     pub error: Option<String>,
 }
@@ -69,7 +85,9 @@ pub struct Corner {
     pub linear: LinearResult,
     pub nonlinear: Option<NonlinearResult>,
     pub stage: Stage,
+    #[serde(deserialize_with = "nan_if_null")]
     pub min_film_um: f64,
+    #[serde(deserialize_with = "nan_if_null")]
     pub whirl_um: f64,
     pub class: Option<String>,
     pub ok: bool,
@@ -89,15 +107,21 @@ pub struct Candidate {
     pub feasible: bool,
     pub reason: String,
     /// Worst over the corners.
+    #[serde(deserialize_with = "nan_if_null")]
     pub min_film_um: f64,
+    #[serde(deserialize_with = "nan_if_null")]
     pub whirl_um: f64,
     pub threshold_hz: Option<f64>,
+    #[serde(deserialize_with = "nan_if_null")]
     pub power_loss_w: f64,
     /// The normalized distance to the nearest limit (> 0 inside, < 0 violated).
+    #[serde(deserialize_with = "nan_if_null")]
     pub margin: f64,
     /// The objectives' values (own sign and units).
+    #[serde(deserialize_with = "nans_if_null")]
     pub objectives: Vec<f64>,
     /// The constraints the search sees (<= 0 feasible).
+    #[serde(deserialize_with = "nans_if_null")]
     pub constraints: Vec<f64>,
 }
 
@@ -411,9 +435,11 @@ pub fn summarize(p: &Problem, index: usize, x: Vec<f64>, corners: Vec<Corner>) -
             }
         ),
     };
+    // Worst over the corners measured: a candidate that failed at one corner has the others
+    // unrun, and a statically too thin corner no whirl amplitude; NaN if none was measured.
     let worst = |f: &dyn Fn(&Corner) -> f64, max: bool| -> f64 {
-        let vals: Vec<f64> = corners.iter().map(f).collect();
-        if vals.iter().any(|v| v.is_nan()) {
+        let vals: Vec<f64> = corners.iter().map(f).filter(|v| !v.is_nan()).collect();
+        if vals.is_empty() {
             return f64::NAN;
         }
         if max {
@@ -591,6 +617,18 @@ mod tests {
         assert!(ok.feasible);
         // Margin: the nearer limit is the whirl (0.5 of 1 um) before the film (3 of 2 um).
         assert!((ok.margin - 0.5).abs() < 1e-12, "{}", ok.margin);
+    }
+
+    #[test]
+    fn candidates_with_unmeasured_quantities_are_read_back() {
+        let p = problem();
+        // Statically too thin: its film is measured, its whirl is not.
+        let thin = corner("C-", linear(Some(900.0), 1.5), None);
+        let c = summarize(&p, 3, vec![20.0], vec![thin]);
+        assert!(c.min_film_um.is_finite() && c.whirl_um.is_nan());
+        let back: Candidate = serde_json::from_str(&serde_json::to_string(&c).unwrap()).unwrap();
+        assert!(back.whirl_um.is_nan() && back.constraints[1].is_nan());
+        assert_eq!(back.min_film_um, c.min_film_um);
     }
 
     #[test]

@@ -38,6 +38,9 @@ pub struct OptimizeOptions {
     pub stop: Arc<AtomicBool>,
     /// Skip the verification of the recommended design.
     pub no_verify: bool,
+    /// Leave the run-ups to another runner (Dask, Slurm, `airring sweep`): write the study of
+    /// the run-ups a round needs and stop ([`Outcome::pending`]) instead of running them.
+    pub external_runs: bool,
 }
 
 /// What an optimisation produced.
@@ -50,10 +53,17 @@ pub struct Outcome {
     pub wall_time_s: f64,
     /// The search stopped early (interrupt): run the command again to continue.
     pub interrupted: bool,
+    /// With `external_runs`: the study file whose run-ups are to be run before the command
+    /// runs again, and how many of them are not completed.
+    pub pending: Option<(PathBuf, usize)>,
 }
 
 /// The file evaluations are appended to, one JSON candidate per line.
 const EVALUATIONS: &str = "evaluations.jsonl";
+
+/// The batch a round asked for, until its candidates are in `EVALUATIONS`: an interrupted
+/// round (or one waiting for external run-ups) continues with the same candidates.
+const PENDING: &str = "pending_batch.json";
 
 /// Runs (or resumes) the optimisation `p` (its file's text `text`) into `opts.out`.
 pub fn optimize(p: &Problem, text: &str, opts: &OptimizeOptions) -> Result<Outcome, String> {
@@ -88,92 +98,74 @@ pub fn optimize(p: &Problem, text: &str, opts: &OptimizeOptions) -> Result<Outco
     let variables: Vec<design_search::Variable> =
         p.variables.iter().map(|v| v.bounds.clone()).collect();
     let n_constraints = constraint_count(p);
-    let done: Vec<design_search::Evaluation> = candidates.iter().map(|c| as_search(p, c)).collect();
     let mut round = 0usize;
     let mut runner = RunUps {
         p,
         f_max_hz: base.f_max_hz,
         opts,
         all: vec![],
+        pending: None,
     };
     // Runs the search already asked for go into the cumulative study again (names stay).
     for c in &candidates {
         runner.note(c);
     }
-    let searched = design_search::search(&variables, n_constraints, method, p.budget, done, |xs| {
-        round += 1;
-        let first = candidates.len();
-        let t0 = Instant::now();
-        let xs: Vec<Vec<f64>> = xs
-            .iter()
-            .map(|x| {
-                p.variables
-                    .iter()
-                    .zip(x)
-                    .map(|(v, &x)| v.round(x))
-                    .collect()
-            })
-            .collect();
-        // A design asked for again (values round alike) is not evaluated again: its result
-        // is reused under the new number.
-        let mut fresh: Vec<Vec<f64>> = vec![];
-        for x in &xs {
-            if !fresh.contains(x) && !candidates.iter().any(|c| &c.x == x) {
-                fresh.push(x.clone());
-            }
-        }
-        let evaluated = evaluate_batch(p, &base_values, &fresh, first, &mut runner)?;
-        let mut batch: Vec<Candidate> = vec![];
-        for (i, x) in xs.iter().enumerate() {
-            let earlier = candidates.iter().chain(&batch).find(|c| &c.x == x);
-            let c = match earlier {
-                Some(same) => Candidate {
-                    index: first + i,
-                    reason: format!("the design of #{} again: {}", same.index, same.reason),
-                    ..same.clone()
-                },
-                None => Candidate {
-                    index: first + i,
-                    ..evaluated
-                        .iter()
-                        .find(|c| &c.x == x)
-                        .expect("evaluated above")
-                        .clone()
-                },
-            };
-            batch.push(c);
-        }
-        let evaluations = batch
-            .iter()
-            .map(|c| as_search(p, c))
-            .map(|e| (e.objective, e.constraints))
-            .collect();
-        append_evaluations(&opts.out.join(EVALUATIONS), &batch)?;
-        if !opts.quiet {
-            for c in &batch {
-                eprintln!("{}", progress_line(p, c));
-            }
-            candidates.extend(batch);
-            eprintln!(
-                "round {round}: {} candidates in {:.0} s; {} evaluated, best feasible: {}",
-                xs.len(),
-                t0.elapsed().as_secs_f64(),
-                candidates.len(),
-                best_of(p, &candidates).map_or("none yet".into(), |b| describe(p, &candidates[b]))
-            );
+    // A round left unfinished (interrupted, or waiting for external run-ups) continues with its
+    // own candidates before the search asks anew.
+    let mut searched: Result<(), String> = Ok(());
+    if let Some(xs) = read_pending(&opts.out.join(PENDING), p) {
+        if candidates.len() + xs.len() <= p.budget {
+            searched = run_round(
+                p,
+                &base_values,
+                &xs,
+                &mut candidates,
+                &mut runner,
+                &mut round,
+            )
+            .map(|_| ());
         } else {
-            candidates.extend(batch);
+            let _ = std::fs::remove_file(opts.out.join(PENDING));
         }
-        Ok(evaluations)
-    });
+    }
+    if searched.is_ok() {
+        let done: Vec<design_search::Evaluation> =
+            candidates.iter().map(|c| as_search(p, c)).collect();
+        searched = design_search::search(&variables, n_constraints, method, p.budget, done, |xs| {
+            run_round(
+                p,
+                &base_values,
+                xs,
+                &mut candidates,
+                &mut runner,
+                &mut round,
+            )
+        })
+        .map(|_| ());
+    }
+    let pending = runner.pending.take();
     let interrupted = match searched {
         Ok(_) => false,
+        Err(_) if pending.is_some() => true,
         Err(e) if opts.stop.load(Ordering::Relaxed) => {
             eprintln!("optimize interrupted ({e}): run the same command again to continue");
             true
         }
         Err(e) => return Err(e),
     };
+    if let Some(pending) = pending {
+        let best = best_of(p, &candidates);
+        outputs::write_all(p, &candidates, best, None, &opts.out)?;
+        return Ok(Outcome {
+            best,
+            candidates,
+            verification: None,
+            files: vec![],
+            wall_time_s: start.elapsed().as_secs_f64(),
+            interrupted,
+            pending: Some(pending),
+        });
+    }
     let best = best_of(p, &candidates);
     let verification = match best {
         Some(b) if !opts.no_verify && !interrupted => {
@@ -187,7 +179,21 @@ pub fn optimize(p: &Problem, text: &str, opts: &OptimizeOptions) -> Result<Outco
                     p.verify_mesh.1
                 );
             }
-            Some(verify::verify(p, &candidates[b], base.f_max_hz, opts)?)
+            match verify::verify(p, &candidates[b], base.f_max_hz, opts)? {
+                verify::Verified::Done(v) => Some(v),
+                verify::Verified::Pending(study, n) => {
+                    outputs::write_all(p, &candidates, best, None, &opts.out)?;
+                    return Ok(Outcome {
+                        candidates,
+                        best,
+                        verification: None,
+                        files: vec![],
+                        wall_time_s: start.elapsed().as_secs_f64(),
+                        interrupted: false,
+                        pending: Some((study, n)),
+                    });
+                }
+            }
         }
         _ => None,
     };
@@ -199,7 +205,90 @@ pub fn optimize(p: &Problem, text: &str, opts: &OptimizeOptions) -> Result<Outco
         files,
         wall_time_s: start.elapsed().as_secs_f64(),
         interrupted,
+        pending: None,
     })
+}
+
+/// One round: the candidates `xs` (as the search asked for them) rounded, evaluated (a design
+/// evaluated before is reused), appended to the evaluations; their objective and constraints
+/// as the search takes them.
+fn run_round(
+    p: &Problem,
+    base_values: &BTreeMap<String, f64>,
+    xs: &[Vec<f64>],
+    candidates: &mut Vec<Candidate>,
+    runner: &mut RunUps,
+    round: &mut usize,
+) -> Result<Vec<(f64, Vec<f64>)>, String> {
+    let opts = runner.opts;
+    *round += 1;
+    let first = candidates.len();
+    let t0 = Instant::now();
+    let xs: Vec<Vec<f64>> = xs
+        .iter()
+        .map(|x| {
+            p.variables
+                .iter()
+                .zip(x)
+                .map(|(v, &x)| v.round(x))
+                .collect()
+        })
+        .collect();
+    // A design asked for again (values round alike) is not evaluated again: its result
+    // is reused under the new number.
+    let mut fresh: Vec<Vec<f64>> = vec![];
+    for x in &xs {
+        if !fresh.contains(x) && !candidates.iter().any(|c| &c.x == x) {
+            fresh.push(x.clone());
+        }
+    }
+    let asked = serde_json::to_string(&xs).map_err(|e| e.to_string())?;
+    crate::output::write_whole(&opts.out.join(PENDING), asked.as_bytes())?;
+    let evaluated = evaluate_batch(p, base_values, &fresh, first, runner)?;
+    let mut batch: Vec<Candidate> = vec![];
+    for (i, x) in xs.iter().enumerate() {
+        let earlier = candidates.iter().chain(&batch).find(|c| &c.x == x);
+        let c = match earlier {
+            Some(same) => Candidate {
+                index: first + i,
+                reason: format!("the design of #{} again: {}", same.index, same.reason),
+                ..same.clone()
+            },
+            None => Candidate {
+                index: first + i,
+                ..evaluated
+                    .iter()
+                    .find(|c| &c.x == x)
+                    .expect("evaluated above")
+                    .clone()
+            },
+        };
+        batch.push(c);
+    }
+    let evaluations = batch
+        .iter()
+        .map(|c| as_search(p, c))
+        .map(|e| (e.objective, e.constraints))
+        .collect();
+    append_evaluations(&opts.out.join(EVALUATIONS), &batch)?;
+    let _ = std::fs::remove_file(opts.out.join(PENDING));
+    if !opts.quiet {
+        for c in &batch {
+            eprintln!("{}", progress_line(p, c));
+        }
+        candidates.extend(batch);
+        eprintln!(
+            "round {}: {} candidates in {:.0} s; {} evaluated, best feasible: {}",
+            *round,
+            xs.len(),
+            t0.elapsed().as_secs_f64(),
+            candidates.len(),
+            best_of(p, candidates).map_or("none yet".into(), |b| describe(p, &candidates[b]))
+        );
+    } else {
+        candidates.extend(batch);
+    }
+    Ok(evaluations)
 }
 
 /// An output folder holding another optimisation (another file's text) is refused: its
@@ -387,6 +476,8 @@ struct RunUps<'a> {
     opts: &'a OptimizeOptions,
     /// Every run-up case so far (the study's cases), in order.
     all: Vec<BTreeMap<String, String>>,
+    /// With external runs: the study written and its run-ups not completed.
+    pending: Option<(PathBuf, usize)>,
 }
 
 impl RunUps<'_> {
@@ -430,6 +521,13 @@ impl RunUps<'_> {
         let dir = self.opts.out.join("nonlinear");
         let profile = self.profile(self.p.t_ramp_s);
         let (study, text) = study_of(&self.p.name, &self.all, &profile, &dir)?;
+        if self.opts.external_runs {
+            if let Some(n) = write_for_others(&study, &text, &dir)? {
+                self.pending = Some((dir.join("study.toml"), n));
+                return Err(format!("{n} run-ups are left to another runner"));
+            }
+            return wanted.iter().map(|w| run_of(&study, w, &profile)).collect();
+        }
         let opts = SweepOptions {
             out: dir,
             jobs: self.opts.jobs,
@@ -448,6 +546,29 @@ impl RunUps<'_> {
         }
         wanted.iter().map(|w| run_of(&study, w, &profile)).collect()
     }
+}
+
+/// With external runs: writes `dir/study.toml` and returns how many of its run-ups are not
+/// completed in `dir/runs` (None: all are).
+pub(crate) fn write_for_others(
+    study: &Study,
+    text: &str,
+    dir: &Path,
+) -> Result<Option<usize>, String> {
+    std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    crate::output::write_whole(&dir.join("study.toml"), text.as_bytes())?;
+    let open = study
+        .runs
+        .iter()
+        .filter(|r| !sweep::is_done(&dir.join("runs").join(&r.name), &r.args))
+        .count();
+    Ok((open > 0).then_some(open))
+}
+
+/// The batch an unfinished round asked for, if its file is there and fits the problem.
+fn read_pending(path: &Path, p: &Problem) -> Option<Vec<Vec<f64>>> {
+    let xs: Vec<Vec<f64>> = serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()?;
+    (!xs.is_empty() && xs.iter().all(|x| x.len() == p.dim())).then_some(xs)
 }
 
 /// The study (and its file's text) of run-up cases: every case a run-up and run-down by
@@ -579,9 +700,11 @@ fn evaluate_batch(
         }
     }
     // Stage 2: the corners the linear stage leaves open, for candidates not already failed
-    // (a corner statically too thin decides the candidate without run-ups).
-    let mut wanted = vec![];
-    let mut wanted_at = vec![];
+    // (a corner statically too thin decides the candidate without run-ups). In two passes:
+    // first each candidate's likeliest failure, the open corner with the lowest linear
+    // threshold; the others only for candidates that pass it. An infeasible candidate costs
+    // one run-up instead of one per corner, and whirling run-ups are the slow ones.
+    let mut open: Vec<(usize, Vec<usize>)> = vec![];
     for (i, cs) in corners.iter().enumerate() {
         let Ok(cs) = cs else { continue };
         let decisions: Vec<_> = cs
@@ -591,16 +714,39 @@ fn evaluate_batch(
         if decisions.iter().any(|d| matches!(d, Some((false, _)))) {
             continue;
         }
-        for (k, d) in decisions.iter().enumerate() {
-            if d.is_none() {
-                wanted.push(runner.case(&cs[k].args));
-                wanted_at.push((i, k));
-            }
+        let mut ks: Vec<usize> = (0..cs.len()).filter(|&k| decisions[k].is_none()).collect();
+        ks.sort_by(|&a, &b| {
+            let t = |k: usize| cs[k].linear.threshold_hz.unwrap_or(f64::INFINITY);
+            t(a).total_cmp(&t(b))
+        });
+        if !ks.is_empty() {
+            open.push((i, ks));
         }
     }
-    if !wanted.is_empty() {
+    let runs = runner.opts.out.join("nonlinear").join("runs");
+    for pass in 0..2 {
+        let mut wanted = vec![];
+        let mut wanted_at = vec![];
+        for (i, ks) in &open {
+            let cs = corners[*i].as_ref().expect("ok");
+            let first_failed = cs[ks[0]]
+                .nonlinear
+                .as_ref()
+                .is_some_and(|n| !evaluate::nonlinear_decision(p, n).0);
+            let these: &[usize] = match pass {
+                0 => &ks[..1],
+                _ if first_failed => &[],
+                _ => &ks[1..],
+            };
+            for &k in these {
+                wanted.push(runner.case(&cs[k].args));
+                wanted_at.push((*i, k));
+            }
+        }
+        if wanted.is_empty() {
+            continue;
+        }
         let names = runner.run(&wanted)?;
-        let runs = runner.opts.out.join("nonlinear").join("runs");
         for ((i, k), name) in wanted_at.into_iter().zip(names) {
             let r = evaluate::nonlinear_result(&runs.join(&name), &name, p.speed_range_hz);
             corners[i].as_mut().expect("ok")[k].nonlinear = Some(r);

@@ -923,7 +923,13 @@ mod tests {
         let p = parse_ok(include_str!("../../../studies/optimize_example.toml"));
         assert_eq!((p.dim(), p.tolerances.len(), p.budget), (2, 2, 24));
         let doc = include_str!("../../../docs/reference/optimization-file.md");
-        let block = doc.split("```toml\n").nth(1).unwrap().split("```").next().unwrap();
+        let block = doc
+            .split("```toml\n")
+            .nth(1)
+            .unwrap()
+            .split("```")
+            .next()
+            .unwrap();
         let p = parse_ok(block);
         assert_eq!(p.variables.len(), 3);
         assert_eq!(p.classes, vec!["stable", "path2a"]);

@@ -45,13 +45,19 @@ pub struct Verification {
     pub resolved: bool,
 }
 
+/// A verification's outcome: judged, or (external runs) waiting for the run-ups of a study.
+pub enum Verified {
+    Done(Verification),
+    Pending(std::path::PathBuf, usize),
+}
+
 /// Runs and judges the verification of `best`.
 pub fn verify(
     p: &Problem,
     best: &Candidate,
     f_max_hz: f64,
     opts: &OptimizeOptions,
-) -> Result<Verification, String> {
+) -> Result<Verified, String> {
     let mesh = format!("{}x{}", p.verify_mesh.0, p.verify_mesh.1);
     let profile = format!(
         "0:0,{t}:{f_max_hz},{t2}:0",
@@ -81,9 +87,16 @@ pub fn verify(
         stop: opts.stop.clone(),
         checkpoint_every_s: None,
     };
-    let report = crate::sweep::sweep(&study, &text, &sweep_opts)?;
-    if !report.interrupted.is_empty() {
-        return Err("the verification was interrupted: run the same command again".into());
+    if opts.external_runs {
+        if let Some(n) = super::write_for_others(&study, &text, &dir)? {
+            return Ok(Verified::Pending(dir.join("study.toml"), n));
+        }
+    } else {
+        let report = crate::sweep::sweep(&study, &text, &sweep_opts)?;
+        let stopped = opts.stop.load(std::sync::atomic::Ordering::Relaxed);
+        if !report.interrupted.is_empty() || stopped {
+            return Err("the verification was interrupted: run the same command again".into());
+        }
     }
     let runs = dir.join("runs");
     let result = |case: &BTreeMap<String, String>| -> Result<NonlinearResult, String> {
@@ -109,7 +122,7 @@ pub fn verify(
             reason,
         });
     }
-    Ok(judge(p, p.verify_t_ramp_s, mesh, corners))
+    Ok(Verified::Done(judge(p, p.verify_t_ramp_s, mesh, corners)))
 }
 
 /// The verdict from the verified corners.

@@ -154,7 +154,7 @@ fn same_run(dir: &Path, args: &BTreeMap<String, String>) -> bool {
 }
 
 /// True if `dir` holds a completed run with exactly these flags and defaults.
-fn is_done(dir: &Path, args: &BTreeMap<String, String>) -> bool {
+pub fn is_done(dir: &Path, args: &BTreeMap<String, String>) -> bool {
     let done = RunSummary::read(dir).is_some_and(|s| s.status == RunStatus::Completed);
     done && same_run(dir, args)
 }
