@@ -528,23 +528,28 @@ impl RunUps<'_> {
             }
             return wanted.iter().map(|w| run_of(&study, w, &profile)).collect();
         }
-        let opts = SweepOptions {
-            out: dir,
-            jobs: self.opts.jobs,
-            serial_films: 2 * self.opts.jobs > sweep::cores(),
-            shard: None,
-            exe: self.opts.exe.clone(),
-            quiet: self.opts.quiet,
-            // The optimisation owns these run folders.
-            overwrite: true,
-            stop: self.opts.stop.clone(),
-            checkpoint_every_s: None,
-        };
+        let opts = sweep_options(self.opts, dir);
         let report = sweep::sweep(&study, &text, &opts)?;
         if self.opts.stop.load(Ordering::Relaxed) || !report.interrupted.is_empty() {
             return Err("stopped during the run-ups".into());
         }
         wanted.iter().map(|w| run_of(&study, w, &profile)).collect()
+    }
+}
+
+/// How the optimisation's run-ups run as a study into `dir`: `--jobs` at a time, in folders the
+/// optimisation owns (replaced without asking), stopped by its stop signal.
+pub(crate) fn sweep_options(opts: &OptimizeOptions, dir: PathBuf) -> SweepOptions {
+    SweepOptions {
+        out: dir,
+        jobs: opts.jobs,
+        serial_films: 2 * opts.jobs > sweep::cores(),
+        shard: None,
+        exe: opts.exe.clone(),
+        quiet: opts.quiet,
+        overwrite: true,
+        stop: opts.stop.clone(),
+        checkpoint_every_s: None,
     }
 }
 

@@ -2,7 +2,7 @@
 //! tolerances, the objectives and the search settings. Every key is checked here, before any
 //! evaluation runs; errors name the file, the table and the key.
 
-use crate::sweep::{is_fmu_key, short_and_unit, KEYS};
+use crate::sweep::{flatten, is_fmu_key, short_and_unit, KEYS};
 use design_search::{Scale, Variable};
 use std::collections::BTreeMap;
 use std::path::Path;
@@ -490,22 +490,6 @@ fn parse_base(t: Option<&toml::Table>) -> Result<BTreeMap<String, String>, Strin
         base.insert("preset".into(), "path1".into());
     }
     Ok(base)
-}
-
-/// `film = { eta = ... }` and `film.eta = ...` as "film.eta".
-fn flatten(t: &toml::Table) -> Vec<(String, toml::Value)> {
-    let mut out = vec![];
-    for (k, v) in t {
-        match v {
-            toml::Value::Table(sub)
-                if crate::fmu_params::Target::PREFIXES.contains(&k.as_str()) =>
-            {
-                out.extend(sub.iter().map(|(sk, sv)| (format!("{k}.{sk}"), sv.clone())))
-            }
-            _ => out.push((k.clone(), v.clone())),
-        }
-    }
-    out
 }
 
 fn check_design_key(table: &str, k: &str) -> Result<&'static str, String> {

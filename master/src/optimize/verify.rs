@@ -76,17 +76,7 @@ pub fn verify(
     }
     let dir = opts.out.join("verify");
     let (study, text) = super::study_of(&format!("{}-verify", p.name), &cases, &profile, &dir)?;
-    let sweep_opts = crate::sweep::SweepOptions {
-        out: dir.clone(),
-        jobs: opts.jobs,
-        serial_films: 2 * opts.jobs > crate::sweep::cores(),
-        shard: None,
-        exe: opts.exe.clone(),
-        quiet: opts.quiet,
-        overwrite: true,
-        stop: opts.stop.clone(),
-        checkpoint_every_s: None,
-    };
+    let sweep_opts = super::sweep_options(opts, dir.clone());
     if opts.external_runs {
         if let Some(n) = super::write_for_others(&study, &text, &dir)? {
             return Ok(Verified::Pending(dir.join("study.toml"), n));

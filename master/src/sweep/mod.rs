@@ -32,8 +32,8 @@ mod table;
 
 pub use map::{plot_grid_maps, plot_maps, LEGEND};
 pub use study::{
-    is_fmu_key, key_order, parse_shard, plan_json_lines, run_name, runup_args, short_and_unit,
-    RunSpec, Study, KEYS,
+    flatten, is_fmu_key, key_order, parse_shard, plan_json_lines, run_name, runup_args,
+    short_and_unit, RunSpec, Study, KEYS,
 };
 pub use table::{collect, merge, write_table, RunRecord};
 

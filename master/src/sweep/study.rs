@@ -91,7 +91,7 @@ pub fn short_and_unit(k: &str) -> (String, &'static str) {
 
 /// Table entries with dotted keys (`film.eta = ...` in TOML is a table `film` holding `eta`)
 /// flattened to "film.eta".
-fn flatten(t: &toml::Table) -> Vec<(String, toml::Value)> {
+pub fn flatten(t: &toml::Table) -> Vec<(String, toml::Value)> {
     let mut out = Vec::new();
     for (k, v) in t {
         match v {
