@@ -7,7 +7,7 @@
 
 use cosim::parallel::{Step, StepPool};
 use cosim::parallel_choice::{Stepping, SteppingChoice};
-use fmi2::importer::CallError;
+use fmi_core::CallError;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;
 use std::time::Instant;

@@ -8,7 +8,7 @@ use crate::observer::{Observer, RunStart};
 use crate::report::RunReport;
 use crate::setup::{build, Built};
 use crate::system::System;
-use fmi2::importer::LogHandler;
+use fmi_core::LogHandler;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::Arc;

@@ -40,6 +40,8 @@ pub mod timeseries;
 pub use algorithm::{AlgorithmConfig, CoSim, Event, Scheme};
 pub use error::{RestoreError, RunError, StepError};
 pub use execution::{run, RunConfig};
+/// What an FMU logged and the caller's handler of it (the FMI core's, for FMUs of either version).
+pub use fmi_core::{LogHandler, LogRecord};
 pub use observer::{Observer, RunStart};
 pub use report::RunReport;
 pub use setup::{build, Built, Recorded};

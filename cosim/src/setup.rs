@@ -7,8 +7,9 @@ use crate::step_control::StepControl;
 use crate::step_plan::LongSteps;
 use crate::subsystem::{Link, Subsystem};
 use crate::system::{split_port, split_quantity, System, SystemError};
-use fmi2::importer::{LogHandler, ModelDescription};
+use fmi_core::description::ModelDescription;
 use fmi_core::variables::{Causality, VarType};
+use fmi_core::LogHandler;
 
 /// More macro steps than this in one run are refused (10^9 steps of the fastest FMUs here take
 /// days; the usual cause is a unit typo).

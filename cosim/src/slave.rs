@@ -5,8 +5,10 @@
 //! FMU's intermediate updates with the same input polynomials (see `fmi3::importer`), so a system
 //! of FMI 3.0 twins runs the same macro steps with the same inputs as its FMI 2.0 original.
 
-use fmi2::importer::{unpack_unless_folder, ImportError, LogHandler, ModelDescription};
+use fmi_core::archive::{unpack_unless_folder, ImportError};
+use fmi_core::description::ModelDescription;
 pub use fmi_core::CoSimSlave;
+use fmi_core::LogHandler;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 

@@ -19,7 +19,7 @@
 use crate::setup::{parameter_value, ParamValue};
 use crate::slave::LoadedFmus;
 use crate::system::{split_port, System, SystemError};
-use fmi2::importer::ModelDescription;
+use fmi_core::description::ModelDescription;
 use fmi_core::variables::Causality;
 use std::collections::BTreeMap;
 use std::fmt::Write as _;

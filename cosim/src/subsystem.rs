@@ -2,7 +2,7 @@
 //! last macro points, and the scratch buffers that keep the macro step free of allocations.
 
 use crate::slave::{FmuState, Slave};
-use fmi2::importer::ModelDescription;
+use fmi_core::description::ModelDescription;
 use fmi_core::CallError;
 use fmi_core::Status;
 use std::collections::VecDeque;

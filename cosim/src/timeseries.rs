@@ -518,7 +518,7 @@ mod tests {
     struct Sleeper;
 
     impl crate::parallel::Step for Sleeper {
-        fn step(&mut self, _t: f64, _h: f64) -> Result<(), fmi2::importer::CallError> {
+        fn step(&mut self, _t: f64, _h: f64) -> Result<(), fmi_core::CallError> {
             std::thread::sleep(Duration::from_micros(200));
             Ok(())
         }

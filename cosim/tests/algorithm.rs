@@ -213,7 +213,7 @@ fn system_file_errors_name_file_line_and_field() {
         std::fs::write(&path, text).unwrap();
         let err = match System::load(&path) {
             Err(e) => e.to_string(),
-            Ok(sys) => match cosim::build(&sys, Arc::new(|_: &fmi2::importer::LogRecord| {})) {
+            Ok(sys) => match cosim::build(&sys, Arc::new(|_: &fmi_core::LogRecord| {})) {
                 Err(e) => e.to_string(),
                 Ok(_) => String::from("(no error)"),
             },
@@ -365,7 +365,7 @@ fn coupling_histories_restart_from_the_fmus_outputs() {
     std::fs::write(&sys_path, coupled("gauss-seidel", 1e-3, 2, 1.0)).unwrap();
     let build = || {
         let sys = System::load(&sys_path).unwrap();
-        cosim::setup::build(&sys, Arc::new(|_: &fmi2::importer::LogRecord| {})).unwrap()
+        cosim::setup::build(&sys, Arc::new(|_: &fmi_core::LogRecord| {})).unwrap()
     };
     let xa = |c: &cosim::algorithm::CoSim| {
         let mut v = 0.0;

@@ -83,7 +83,7 @@ fn observers_see_every_sample_and_the_roll_backs_and_the_csv_matches_them() {
     let sys = system(&dir);
     let mut csv = CsvObserver::new(dir.join("series.csv"));
     let mut rec = Recorder::default();
-    let log = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    let log = Arc::new(|_: &fmi_core::LogRecord| {});
     let report = cosim::run(
         &sys,
         &RunConfig::new(&dir),
@@ -131,7 +131,7 @@ fn a_failing_observer_fails_the_run_with_its_message() {
     let dir = tmp("failing");
     let sys = system(&dir);
     let mut rec = Recorder::default();
-    let log = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    let log = Arc::new(|_: &fmi_core::LogRecord| {});
     let report = cosim::run(
         &sys,
         &RunConfig::new(&dir),
@@ -157,7 +157,7 @@ fn a_failing_observer_fails_the_run_with_its_message() {
 #[test]
 fn a_run_that_cannot_start_is_a_typed_error() {
     let dir = tmp("nostart");
-    let log = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    let log = Arc::new(|_: &fmi_core::LogRecord| {});
     let e = cosim::run(
         &dir.join("missing.toml"),
         &RunConfig::new(&dir),
@@ -207,7 +207,7 @@ fn a_macro_step_that_does_not_divide_the_stop_time_ends_with_a_shorter_step() {
         "macro_step = 0.03\nstop_time = 0.1",
         "interval = 0.01",
     );
-    let log = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    let log = Arc::new(|_: &fmi_core::LogRecord| {});
     let mut rec = Recorder::default();
     let report = cosim::run(&sys, &RunConfig::new(&dir), false, log, &mut [&mut rec]).unwrap();
     assert!(report.completed && report.error.is_none(), "{report:?}");
@@ -224,7 +224,7 @@ fn a_macro_step_that_does_not_divide_the_stop_time_ends_with_a_shorter_step() {
 #[test]
 fn time_grids_no_run_can_cover_are_refused_before_anything_runs() {
     let dir = tmp("grids");
-    let log = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    let log = Arc::new(|_: &fmi_core::LogRecord| {});
     for (algorithm, output, expect) in [
         (
             "macro_step = 1e300\nstop_time = 0.1",
@@ -287,7 +287,7 @@ fn snapshot(dir: &Path) -> Vec<(String, Vec<u8>)> {
 #[test]
 fn a_checkpoint_is_continued_only_by_its_own_run_and_every_field_is_checked() {
     let root = tmp("identity");
-    let log = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    let log = Arc::new(|_: &fmi_core::LogRecord| {});
     let sys = system(&root);
     let run = |dir: &Path, resume: bool, halt: Option<f64>| {
         let cfg = RunConfig {

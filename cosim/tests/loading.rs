@@ -62,7 +62,7 @@ fn one_file_named_twice_is_loaded_once() {
     assert!(Arc::ptr_eq(&a, &loaded.get(&dotted).unwrap()));
     assert!(!a.description().can_be_instantiated_only_once_per_process);
     // Two instances of the one library, each with its own state.
-    let log: fmi2::importer::LogHandler = Arc::new(|_: &fmi2::importer::LogRecord| {});
+    let log: fmi_core::LogHandler = Arc::new(|_: &fmi_core::LogRecord| {});
     let s1 = a.instantiate("a", false, log.clone()).unwrap();
     let s2 = b.instantiate("b", false, log).unwrap();
     let x0 = a.description().variable("x0").unwrap().vr;

@@ -16,9 +16,15 @@
 
 #[cfg(feature = "archive")]
 pub mod archive;
+pub mod description;
+pub mod instance;
+pub mod logging;
+pub mod model;
+pub mod snapshot;
 pub mod states;
 pub mod units;
 pub mod variables;
+pub mod xml;
 
 use std::any::Any;
 
@@ -59,6 +65,40 @@ impl Status {
             Status::Error => "Error",
             Status::Fatal => "Fatal",
             Status::Pending => "Pending",
+        }
+    }
+}
+
+/// The standard an exported instance answers in: its logging rules and the names of its
+/// functions in messages.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Standard {
+    Fmi2,
+    Fmi3,
+}
+
+impl Standard {
+    /// The function that instantiates a co-simulation FMU.
+    pub fn instantiate(self) -> &'static str {
+        match self {
+            Standard::Fmi2 => "fmi2Instantiate",
+            Standard::Fmi3 => "fmi3InstantiateCoSimulation",
+        }
+    }
+
+    /// The function that gives the start and stop time and the tolerance.
+    pub fn setup_experiment(self) -> &'static str {
+        match self {
+            Standard::Fmi2 => "fmi2SetupExperiment",
+            Standard::Fmi3 => "fmi3EnterInitializationMode",
+        }
+    }
+
+    /// The function that resets an instance.
+    pub fn reset(self) -> &'static str {
+        match self {
+            Standard::Fmi2 => "fmi2Reset",
+            Standard::Fmi3 => "fmi3Reset",
         }
     }
 }
@@ -106,6 +146,37 @@ pub fn check(function: &'static str, raw: i32) -> Result<(), CallError> {
             function,
             status: Status::Fatal,
         }),
+    }
+}
+
+/// One message an FMU logged.
+#[derive(Clone, Debug)]
+pub struct LogRecord {
+    pub instance: String,
+    pub status: Status,
+    /// The standard of the FMU that logged it ("fmi2", "fmi3"): the prefix of the status's C
+    /// name (`fmi2Warning`, `fmi3Warning`).
+    pub standard: &'static str,
+    pub category: String,
+    pub message: String,
+}
+
+/// Receives every message the FMU logs (called on the thread that called into the FMU).
+pub type LogHandler = std::sync::Arc<dyn Fn(&LogRecord) + Send + Sync>;
+
+/// A C string from an FMU as owned text (lossy UTF-8; empty for null). Both importers
+/// read their FMUs' log messages with it.
+///
+/// # Safety
+/// `s` is null or NUL-terminated.
+pub unsafe fn lossy(s: *const std::ffi::c_char) -> String {
+    if s.is_null() {
+        String::new()
+    } else {
+        // SAFETY: FMU passes NUL-terminated strings.
+        unsafe { std::ffi::CStr::from_ptr(s) }
+            .to_string_lossy()
+            .into_owned()
     }
 }
 

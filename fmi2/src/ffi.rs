@@ -2,10 +2,9 @@
 //! macro emits `#[no_mangle]` wrappers that call these. Each body runs under `catch_unwind`, so a panic
 //! becomes fmi2Error with a log line and never unwinds into (or aborts) the host.
 
-use crate::instance::{Core, Instance, Phase, INSTANCE_MAGIC};
-use crate::logging::Logger;
-use crate::model::Model;
 use crate::types::*;
+use fmi_core::instance::{Core, Instance, Phase, INSTANCE_MAGIC};
+use fmi_core::model::Model;
 use std::ffi::{c_char, c_int, CStr};
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
@@ -142,7 +141,7 @@ pub unsafe fn instantiate<M: Model>(
             )
         };
         let refuse = |reason: &str| {
-            let logger = Logger::new(callbacks, name.unwrap_or("?"), true, &[]);
+            let logger = crate::logging::logger(callbacks, name.unwrap_or("?"), true, &[]);
             logger.reject(Status::Error, "fmi2Instantiate", reason);
             std::ptr::null_mut()
         };
@@ -157,7 +156,17 @@ pub unsafe fn instantiate<M: Model>(
                 "this FMU supports Co-Simulation only (fmuType must be fmi2CoSimulation)",
             );
         }
-        match Instance::<M>::new(name, guid, res, callbacks, logging_on != 0) {
+        let logger = crate::logging::logger(
+            callbacks,
+            name,
+            logging_on != 0,
+            &M::info().all_log_categories(),
+        );
+        let resources = match res {
+            None | Some("") => Ok(None),
+            Some(uri) => crate::resource::uri_to_path(uri).map(Some),
+        };
+        match Instance::<M>::new(name, guid, resources, logger) {
             Ok(inst) => Box::into_raw(Box::new(inst)) as Fmi2Component,
             Err((logger, reason)) => {
                 logger.reject(Status::Error, "fmi2Instantiate", &reason);
@@ -508,7 +517,7 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(
             return null_argument(inst, "fmi2SerializedFMUstateSize", "FMUstate or size");
         };
         // SAFETY: checked non-null.
-        unsafe { *size = crate::snapshot::serialize(&b.core, &inst.guid).len() };
+        unsafe { *size = fmi_core::snapshot::serialize(&b.core, &inst.guid).len() };
         Status::Ok
     })
 }
@@ -528,7 +537,7 @@ pub unsafe fn serialize_fmu_state<M: Model>(
         }) else {
             return null_argument(inst, "fmi2SerializeFMUstate", "FMUstate or serializedState");
         };
-        let blob = crate::snapshot::serialize(&b.core, &inst.guid);
+        let blob = fmi_core::snapshot::serialize(&b.core, &inst.guid);
         if blob.len() != size {
             inst.logger.reject(
                 Status::Error,
@@ -563,8 +572,8 @@ pub unsafe fn de_serialize_fmu_state<M: Model>(
                 "serializedState or FMUstate",
             );
         };
-        let shape = crate::model::Store::from_info(&inst.info);
-        match crate::snapshot::deserialize::<M>(data, &inst.guid, &shape) {
+        let shape = fmi_core::model::Store::from_info(&inst.info);
+        match fmi_core::snapshot::deserialize::<M>(data, &inst.guid, &shape) {
             Ok(core) => {
                 // SAFETY: FMI contract: *state is null or one of our states, which we may overwrite.
                 unsafe {

@@ -1,15 +1,16 @@
-//! One FMI 3.0 instance: the fmi2 instance (state machine, store, model, tolerances) plus what
-//! FMI 3.0 adds around it: the call-state masks, the value-reference mapping and the log sink.
+//! One FMI 3.0 instance: the FMI core's instance (state machine, store, model, tolerances, the
+//! logger with FMI 3.0's filter) plus what FMI 3.0 adds around it: the call-state masks and the
+//! value-reference mapping.
 //!
-//! Safe Rust on slices, like `fmi2::instance`; `ffi` turns C pointers into these calls.
+//! Safe Rust on slices, like `fmi_core::instance`; `ffi` turns C pointers into these calls.
 
-use crate::logging::Sink;
 use crate::state::{self, Mask};
 use crate::types::{fmi3InstanceEnvironment, fmi3IntermediateUpdateCallback};
 use crate::value_refs::{self, Target, TIME_VR};
-use fmi2::instance::Phase;
-use fmi2::{Model, Status};
+use fmi_core::instance::Phase;
+use fmi_core::model::Model;
 use fmi_core::variables::VarType;
+use fmi_core::Status;
 use std::cell::{Cell, RefCell, UnsafeCell};
 
 /// Marks a live instance; checked on every call so a null or foreign pointer is refused.
@@ -58,18 +59,15 @@ impl<M: Model> Shell<M> {
 }
 
 pub struct Instance<M: Model> {
-    /// Declared before `sink`: it holds a pointer to the sink and must be dropped first.
-    pub inner: fmi2::instance::Instance<M>,
-    pub sink: Sink,
-    /// fmi2 value references of the current call (reused: no allocation per fmi3Get/SetInt32).
+    pub inner: fmi_core::instance::Instance<M>,
+    /// per-type value references of the current call (reused: no allocation per fmi3Get/SetInt32).
     vrs2: Vec<u32>,
 }
 
 impl<M: Model> Instance<M> {
-    pub fn new(inner: fmi2::instance::Instance<M>, sink: Sink) -> Self {
+    pub fn new(inner: fmi_core::instance::Instance<M>) -> Self {
         Instance {
             inner,
-            sink,
             vrs2: Vec::new(),
         }
     }
@@ -107,7 +105,7 @@ impl<M: Model> Instance<M> {
     }
 
     /// Checks that every value reference designates an existing variable of type `t` (or `time`,
-    /// where `time_ok`), and leaves their fmi2 value references in `self.vrs2`.
+    /// where `time_ok`), and leaves their per-type value references in `self.vrs2`.
     fn translate(
         &mut self,
         t: VarType,
@@ -142,8 +140,8 @@ impl<M: Model> Instance<M> {
         Ok(())
     }
 
-    /// fmi3GetFloat64. Float64 value references equal the fmi2 Real ones, so without `time` in
-    /// the request the caller's arrays go straight to the fmi2 instance.
+    /// fmi3GetFloat64. Float64 value references equal the per-type Real ones, so without `time` in
+    /// the request the caller's arrays go straight to the core instance.
     pub fn get_float64(&mut self, vrs: &[u32], out: &mut [f64]) -> Res {
         self.translate(VarType::Real, vrs, true)?;
         if self.vrs2.len() == vrs.len() {
@@ -188,7 +186,7 @@ impl<M: Model> Instance<M> {
         self.inner.set_boolean(&self.vrs2, values)
     }
 
-    /// fmi3GetOutputDerivatives: only Float64 outputs (the fmi2 instance checks causality).
+    /// fmi3GetOutputDerivatives: only Float64 outputs (the core instance checks causality).
     pub fn get_output_derivatives(&mut self, vrs: &[u32], orders: &[i32], out: &mut [f64]) -> Res {
         self.translate(VarType::Real, vrs, false)?;
         self.inner.get_output_derivatives(vrs, orders, out)

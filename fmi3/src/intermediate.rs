@@ -13,7 +13,7 @@
 //! nothing gets the inputs held over the step, as without a callback.
 
 use crate::types::*;
-use fmi2::{Inputs, IntermediateInputs};
+use fmi_core::model::{Inputs, IntermediateInputs};
 use std::cell::{Cell, RefCell};
 
 /// Real values as the master sets them inside intermediateUpdate callbacks.
@@ -21,11 +21,11 @@ use std::cell::{Cell, RefCell};
 pub struct Buffer {
     /// Inside a callback: fmi3SetFloat64 of an input is allowed.
     pub(crate) open: bool,
-    /// All Real values by fmi2 value reference; the inputs are overwritten by the master.
+    /// All Real values by per-type value reference; the inputs are overwritten by the master.
     pub(crate) reals: Vec<f64>,
-    /// Which fmi2 Real value references are inputs (may be set in a callback).
+    /// Which per-type Real value references are inputs (may be set in a callback).
     pub(crate) is_input: Vec<bool>,
-    /// The Real variables' names by fmi2 value reference, for messages (the master knows its
+    /// The Real variables' names by per-type value reference, for messages (the master knows its
     /// variables by name and FMI 3.0 value reference, not by ours).
     pub(crate) names: Vec<&'static str>,
     /// Calls refused while the model stepped (logged by fmi3DoStep afterwards: the logger belongs
@@ -35,14 +35,14 @@ pub struct Buffer {
 
 impl Buffer {
     /// A buffer for a model with these variables (which Reals are inputs is fixed per model).
-    pub(crate) fn for_model(info: &fmi2::ModelInfo) -> Self {
-        let n = info.count(fmi2::VarType::Real);
+    pub(crate) fn for_model(info: &fmi_core::variables::ModelInfo) -> Self {
+        let n = info.count(fmi_core::variables::VarType::Real);
         let mut is_input = vec![false; n];
         let mut names = vec![""; n];
         for v in &info.variables {
-            if v.var_type == fmi2::VarType::Real {
+            if v.var_type == fmi_core::variables::VarType::Real {
                 names[v.vr as usize] = v.name;
-                is_input[v.vr as usize] = v.causality == fmi2::Causality::Input;
+                is_input[v.vr as usize] = v.causality == fmi_core::variables::Causality::Input;
             }
         }
         Buffer {
@@ -60,7 +60,7 @@ impl Buffer {
         self.refused.clear();
     }
 
-    /// fmi3SetFloat64 inside a callback (`vrs` are fmi2 Real value references).
+    /// fmi3SetFloat64 inside a callback (`vrs` are per-type Real value references).
     pub(crate) fn set(&mut self, vrs: &[u32], values: &[f64]) -> Result<(), String> {
         if !self.open {
             return Err("called during fmi3DoStep outside an intermediateUpdate callback".into());

@@ -1,15 +1,16 @@
-//! FMI 3.0 Co-Simulation export of any `fmi2::Model`: the twin of fmi2's export layer.
+//! FMI 3.0 Co-Simulation export of any `fmi_core::model::Model`: the sibling of `fmi2`'s glue.
 //!
-//! The model code stays version-neutral (`fmi2::Model`); this crate wraps the fmi2 instance (its
-//! call-state machine, store, model and FMU-state blobs are reused as they are) in the FMI 3.0 C
-//! ABI:
+//! The model code is version-neutral (`fmi_core::model::Model`); this crate wraps the FMI core's
+//! instance (its call-state machine, store, model and FMU-state blobs, as the FMI 2.0 glue uses
+//! them) in the FMI 3.0 C ABI:
 //!
 //! - `types`: `#[repr(C)]` mirror of `fmi3PlatformTypes.h` / `fmi3FunctionTypes.h`.
-//! - `value_refs`: FMI 3.0 value references (unique across types) from the per-type fmi2 ones,
+//! - `value_refs`: FMI 3.0 value references (unique across types) from the variable table's
+//!   per-type ones (FMI 2.0's),
 //!   plus the independent variable `time`.
-//! - `state`: the FMI 3.0 call-state masks, one per function, over the fmi2 instance's phase.
-//! - `logging`: the FMI 3.0 log callback behind the fmi2 logger (a C bridge: src/log_bridge.c).
-//! - `instance`: one FMI 3.0 instance around an `fmi2::instance::Instance`.
+//! - `state`: the FMI 3.0 call-state masks, one per function, over the core instance's phase.
+//! - `logging`: the log sink to the FMI 3.0 callback, behind the core's logger with FMI 3.0's filter.
+//! - `instance`: one FMI 3.0 instance around an `fmi_core::instance::Instance`.
 //! - `ffi` + `export_fmu!`: all 75 `fmi3*` functions of `fmi3Functions.h`, each behind
 //!   `catch_unwind`; the Co-Simulation ones are real, the others return fmi3Error with a reason.
 //! - `xml`: the FMI 3.0 modelDescription.xml.
@@ -19,8 +20,8 @@
 //! Inputs within a step: FMI 3.0 has no input derivatives. A master that passes an
 //! `intermediateUpdate` callback is asked for the Float64 inputs (all marked
 //! `intermediateUpdate="true"`) at every internal time the model reads them; the model sees those
-//! values through `fmi2::StepInputs`. Without a callback an input keeps the value set before
-//! fmi3DoStep over the whole step (the fmi2 `Inputs` get zero derivatives, as for an FMI 2.0
+//! values through `fmi_core::model::StepInputs`. Without a callback an input keeps the value set before
+//! fmi3DoStep over the whole step (the `Inputs` get zero derivatives, as for an FMI 2.0
 //! master that sets none).
 //!
 //! Events are not used: `hasEventMode="false"`, fmi3InstantiateCoSimulation refuses

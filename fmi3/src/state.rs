@@ -1,9 +1,9 @@
 //! The FMI 3.0 Co-Simulation call-state rules: one allowed-state mask per function, checked before
-//! the call reaches the fmi2 instance (as `MASK_fmi3*` in the Reference FMUs' fmi3Functions.c).
+//! the call reaches the core instance (as `MASK_fmi3*` in the Reference FMUs' fmi3Functions.c).
 //!
-//! The state itself is the fmi2 instance's `Phase` (one source of truth), read as an FMI 3.0 state:
+//! The state itself is the core instance's `Phase` (one source of truth), read as an FMI 3.0 state:
 //!
-//! | fmi2 `Phase`         | FMI 3.0 state                                                   |
+//! | core `Phase`         | FMI 3.0 state                                                   |
 //! |----------------------|-----------------------------------------------------------------|
 //! | `Instantiated`       | Instantiated                                                    |
 //! | `InitializationMode` | Initialization Mode                                             |
@@ -19,7 +19,7 @@
 //! `providesIntermediateUpdate="false"`, Co-Simulation only. A wrong-state call returns fmi3Error,
 //! is logged, and leaves the state unchanged (as in the Reference FMUs).
 
-use fmi2::instance::Phase;
+use fmi_core::instance::Phase;
 
 pub type Mask = u32;
 

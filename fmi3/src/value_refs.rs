@@ -14,7 +14,7 @@
 //! FMI 3.0 requires exactly one independent variable; the fmi2 tables have none, so the layer adds
 //! `time`. A table with `BLOCK_SIZE` or more variables of one type does not fit: `check` refuses it.
 
-use fmi2::ModelInfo;
+use fmi_core::variables::ModelInfo;
 use fmi_core::variables::VarType;
 
 /// Width of each type's block of value references.

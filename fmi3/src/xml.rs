@@ -4,8 +4,8 @@
 
 use crate::logging::all_log_categories;
 use crate::value_refs::{self, TIME_NAME, TIME_VR};
-use fmi2::xml::{escape, num, unit_definitions};
 use fmi_core::variables::{Causality, Initial, ModelInfo, VarType};
+use fmi_core::xml::{escape, num, unit_definitions};
 use std::fmt::Write;
 
 pub const GENERATION_TOOL: &str = "AirRing fmi3 layer";

@@ -1,10 +1,11 @@
-//! The FMU shell: the variable table of `airfilm.fmu` and the `fmi2::Model` implementation that maps
+//! The FMU shell: the variable table of `airfilm.fmu` and the `fmi_core::model::Model` implementation that maps
 //! FMI variables onto [`AirFilm`]. The physics knows nothing of this module.
 //!
 //! Value references are part of the product (third-party masters store them): append, never renumber.
 
 use crate::{AirFilm, BearingParams, FilmError, FilmOutputs, JournalState};
-use fmi2::{DefaultExperiment, Log, Model, ModelInfo, StepInputs, StepOutcome, Store, Variable};
+use fmi_core::model::{Log, Model, StepInputs, StepOutcome, Store};
+use fmi_core::variables::{DefaultExperiment, ModelInfo, Variable};
 use serde::{Deserialize, Serialize};
 
 /// Real value references.
@@ -410,7 +411,7 @@ fmi2::export_fmu!(AirFilmFmu);
 /// A refusal of a parameter with its value in the units this FMU declares for it ("C = -2.5e-5 m
 /// (-25 um)"), as the libraries give it in bare SI ("C = -0.000025").
 fn in_units(error: String) -> String {
-    fmi2::units::parameter_error_with_units(&<AirFilmFmu as Model>::info(), error, &|x| {
+    fmi_core::units::parameter_error_with_units(&<AirFilmFmu as Model>::info(), error, &|x| {
         bearing::num::Num(x).to_string()
     })
 }
@@ -483,10 +484,13 @@ mod tests {
         let n = m.film.pressures_rel().len();
         let j = m.film.journal();
         m.film.set_pressures_rel(0.0, j, &vec![1e307; n]).unwrap();
-        let inputs = fmi2::Inputs {
+        let inputs = fmi_core::model::Inputs {
             t0: 0.0,
             values: store.reals.clone(),
-            derivatives: vec![[0.0; fmi2::MAX_INPUT_DERIVATIVE_ORDER]; store.reals.len()],
+            derivatives: vec![
+                [0.0; fmi_core::model::MAX_INPUT_DERIVATIVE_ORDER];
+                store.reals.len()
+            ],
         };
         match m.do_step(0.0, 1e-5, &inputs, &mut NoLog) {
             StepOutcome::Error(e) => assert!(e.contains("NaN or infinite"), "{e}"),

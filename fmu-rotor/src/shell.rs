@@ -1,4 +1,4 @@
-//! The FMU shell: the variable table of `rotor.fmu` and the `fmi2::Model` implementation over
+//! The FMU shell: the variable table of `rotor.fmu` and the `fmi_core::model::Model` implementation over
 //! [`Rotor`]. The multibody library knows nothing of this module.
 //!
 //! Value references are part of the product (third-party masters store them): append, never renumber.
@@ -6,7 +6,8 @@
 use crate::params::MAX_SPEED_POINTS;
 use crate::{BearingForces, Disturbance, Imbalance, Rotor, RotorError, RotorParams};
 use bearing::{Bore, BoreContact, ContactLaw};
-use fmi2::{DefaultExperiment, Log, Model, ModelInfo, StepInputs, StepOutcome, Store, Variable};
+use fmi_core::model::{Log, Model, StepInputs, StepOutcome, Store};
+use fmi_core::variables::{DefaultExperiment, ModelInfo, Variable};
 use serde::{Deserialize, Serialize};
 
 /// Real value references (Integer ones at the end).
@@ -756,7 +757,7 @@ fmi2::export_fmu!(RotorFmu);
 /// A refusal of a parameter with its value in the units this FMU declares for it ("c_C = -5000
 /// N/m (-5 N/mm)"), as the libraries give it in bare SI ("c_C = -5000").
 fn in_units(error: String) -> String {
-    fmi2::units::parameter_error_with_units(&<RotorFmu as Model>::info(), error, &|x| {
+    fmi_core::units::parameter_error_with_units(&<RotorFmu as Model>::info(), error, &|x| {
         bearing::num::Num(x).to_string()
     })
 }

@@ -1,5 +1,6 @@
 //! `airring export-ssp`: the command around `cosim::ssp::export`.
 
+use crate::error::{Classify, Error};
 use cosim::System;
 use std::path::PathBuf;
 
@@ -26,21 +27,23 @@ pub fn ssp_names() -> cosim::ssp::SspNames {
 }
 
 /// The command.
-pub fn run_cli(a: &ExportSspArgs) -> Result<(), String> {
+pub fn run_cli(a: &ExportSspArgs) -> Result<(), Error> {
     if a.out.is_dir() {
-        return Err(format!(
+        return Err(Error::Flag(format!(
             "--out {}: a folder; name the archive file",
             a.out.display()
-        ));
+        )));
     }
     // A link counts as existing (also one to nothing); --overwrite replaces the link itself.
     if std::fs::symlink_metadata(&a.out).is_ok() && !a.overwrite {
-        return Err(format!(
+        return Err(Error::Flag(format!(
             "--out {}: exists; choose another file or pass --overwrite to replace it",
             a.out.display()
-        ));
+        )));
     }
-    let r = cosim::ssp::export(&a.system, &a.out, &ssp_names())?;
+    // What the export refuses is nearly always the system file or its FMUs (writing the
+    // archive is its last step).
+    let r = cosim::ssp::export(&a.system, &a.out, &ssp_names()).input()?;
     if let Ok(sys) = System::load(&a.system) {
         if sys.file.algorithm.step_control.is_some() {
             eprintln!(
@@ -82,19 +85,25 @@ mod tests {
         };
         let e = run_cli(&args(false)).unwrap_err();
         assert!(
-            e.contains("exists; choose another file or pass --overwrite"),
-            "{e}"
+            matches!(&e, Error::Flag(m) if m.contains("exists; choose another file or pass --overwrite")),
+            "{e:?}"
         );
         assert_eq!(std::fs::read_to_string(&out).unwrap(), "{}");
         // With --overwrite the export itself runs (and fails here on the missing system file).
         let e = run_cli(&args(true)).unwrap_err();
-        assert!(e.contains("missing.toml"), "{e}");
+        assert!(
+            matches!(&e, Error::Input(m) if m.contains("missing.toml")),
+            "{e:?}"
+        );
         let e = run_cli(&ExportSspArgs {
             out: dir.clone(),
             ..args(true)
         })
         .unwrap_err();
-        assert!(e.contains("a folder; name the archive file"), "{e}");
+        assert!(
+            matches!(&e, Error::Flag(m) if m.contains("a folder; name the archive file")),
+            "{e:?}"
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -2,6 +2,7 @@
 //! from a ROSS rotor file: its modes at each speed (damped, gyroscopic), critical speeds and the
 //! response to an imbalance, printed and written to modal.json with the Campbell diagram.
 
+use crate::error::{Classify, Error};
 use crate::modal::RingFlags;
 use crate::plot::{Anchor, Chart, Figure, Rgb, Role};
 use shaft::modal::{critical_speeds, modes, unbalance_response, Whirl};
@@ -99,28 +100,30 @@ pub fn modal(
     n_critical: Option<usize>,
     unbalance: Option<Unbalance>,
     out: Option<&Path>,
-) -> Result<serde_json::Value, String> {
-    crate::modal::check_speeds(speeds_hz)?;
-    let (mut model, mut notes) = read_rotor(rotor)?;
+) -> Result<serde_json::Value, Error> {
+    crate::modal::check_speeds(speeds_hz).flag()?;
+    let (mut model, mut notes) = read_rotor(rotor).input()?;
     if let Some((nodes, flags)) = rings {
-        notes.extend(add_rings(&mut model, nodes, &flags)?);
+        notes.extend(add_rings(&mut model, nodes, &flags).flag()?);
     }
     if let Some(u) = unbalance {
         if u.node >= model.n_nodes() {
-            return Err(format!(
+            return Err(Error::Flag(format!(
                 "--unbalance-node {} is off the shaft (nodes 0 to {})",
                 u.node,
                 model.n_nodes() - 1
-            ));
+            )));
         }
         if !(u.g_mm.is_finite() && u.g_mm > 0.0) {
-            return Err(format!(
+            return Err(Error::Flag(format!(
                 "--unbalance {} g mm must be a finite number > 0",
                 crate::runup::fmt_number(u.g_mm)
-            ));
+            )));
         }
         if !u.phase_deg.is_finite() {
-            return Err("--unbalance-phase must be a finite number [deg]".into());
+            return Err(Error::Flag(
+                "--unbalance-phase must be a finite number [deg]".into(),
+            ));
         }
     }
     let z = model.node_z_m();
@@ -141,7 +144,7 @@ pub fn modal(
     }
     let mut table = vec![];
     for &f in speeds_hz {
-        let ms = modes(&model, f * TAU).map_err(|e| e.to_string())?;
+        let ms = modes(&model, f * TAU).run()?;
         println!("speed {f} Hz:");
         let mut rows = vec![];
         for (k, m) in ms.iter().enumerate() {
@@ -171,13 +174,13 @@ pub fn modal(
         None => {
             let cap = campbell_cap_hz(speeds_hz);
             modes(&model, 0.0)
-                .map_err(|e| e.to_string())?
+                .run()?
                 .iter()
                 .filter(|m| m.wd_rad_s / TAU <= cap)
                 .count()
         }
     };
-    let crit = critical_speeds(&model, n_critical).map_err(|e| e.to_string())?;
+    let crit = critical_speeds(&model, n_critical).run()?;
     if !crit.is_empty() {
         println!("critical speeds (damped frequency = speed):");
         for c in &crit {
@@ -212,7 +215,7 @@ pub fn modal(
                 u.phase_deg.to_radians(),
                 f * TAU,
             )
-            .map_err(|e| e.to_string())?;
+            .run()?;
             let nodes: Vec<_> = (0..model.n_nodes())
                 .map(|k| {
                     let (x, y) = (q[4 * k], q[4 * k + 1]);
@@ -251,8 +254,10 @@ pub fn modal(
             &v,
             "Campbell diagram (flexible rotor, damped frequencies)",
             Some(campbell_cap_hz(speeds_hz)),
-        )?;
-        let files = write_figures(dir, &model, speeds_hz.first().copied().unwrap_or(0.0))?;
+        )
+        .output()?;
+        let files =
+            write_figures(dir, &model, speeds_hz.first().copied().unwrap_or(0.0)).output()?;
         println!(
             "wrote {}",
             files
@@ -599,8 +604,8 @@ mod tests {
         };
         let e = modal(&f, &[100.0], None, Some(2), Some(off), None).unwrap_err();
         assert!(
-            e.contains("--unbalance-node 3") && e.contains("0 to 2"),
-            "{e}"
+            matches!(&e, Error::Flag(m) if m.contains("--unbalance-node 3") && m.contains("0 to 2")),
+            "{e:?}"
         );
         let zero = Unbalance { g_mm: 0.0, ..off };
         let e = modal(
@@ -612,14 +617,20 @@ mod tests {
             None,
         )
         .unwrap_err();
-        assert!(e.contains("--unbalance 0 g mm"), "{e}");
+        assert!(
+            matches!(&e, Error::Flag(m) if m.contains("--unbalance 0 g mm")),
+            "{e:?}"
+        );
         let e = modal(&d.join("missing.toml"), &[100.0], None, Some(2), None, None).unwrap_err();
         assert!(
-            e.contains("missing.toml") && e.contains("cannot be read"),
-            "{e}"
+            matches!(&e, Error::Input(m) if m.contains("missing.toml") && m.contains("cannot be read")),
+            "{e:?}"
         );
         let e = modal(&f, &[-5.0], None, Some(2), None, None).unwrap_err();
-        assert!(e.starts_with("--speed -5 Hz"), "{e}");
+        assert!(
+            matches!(&e, Error::Flag(m) if m.starts_with("--speed -5 Hz")),
+            "{e:?}"
+        );
         let _ = std::fs::remove_dir_all(&d);
     }
 

@@ -4,7 +4,8 @@
 //! the linear stability analysis applies them to the same parameter mapping the FMUs use
 //! (`shell::params_from`), so both see the same physics.
 
-use fmi2::{Causality, Model, ModelInfo, Store, VarType};
+use fmi_core::model::{Model, Store};
+use fmi_core::variables::{Causality, ModelInfo, VarType};
 use fmu_airfilm::shell::AirFilmFmu;
 use fmu_rotor::shell::RotorFmu;
 
@@ -161,7 +162,7 @@ impl FmuParameter {
 }
 
 /// The FMU and the parameter variable a key PREFIX.NAME names.
-fn lookup(key: &str) -> Result<(Target, fmi2::Variable), String> {
+fn lookup(key: &str) -> Result<(Target, fmi_core::variables::Variable), String> {
     let (prefix, name) = key.split_once('.').ok_or_else(|| {
         format!("'{key}': an FMU parameter is PREFIX.NAME with PREFIX one of rotor, film, film_C, film_T")
     })?;
@@ -192,8 +193,8 @@ fn lookup(key: &str) -> Result<(Target, fmi2::Variable), String> {
 
 /// A value of `var` in its SI unit and, where the variable declares one, its display unit:
 /// "-5000 N/m (-5 N/mm)", "2.5e-5 m (25 um)"; the bare number for a variable without a unit.
-pub fn quantity_text(var: &fmi2::Variable, si: f64) -> String {
-    fmi2::units::quantity_text(var, si, &fmt_si)
+pub fn quantity_text(var: &fmi_core::variables::Variable, si: f64) -> String {
+    fmi_core::units::quantity_text(var, si, &fmt_si)
 }
 
 /// Seven significant digits, without the rounding noise of a unit conversion (25, not
@@ -213,7 +214,7 @@ pub fn with_units(model: &str, error: String) -> String {
     } else {
         AirFilmFmu::info()
     };
-    fmi2::units::parameter_error_with_units(&info, error, &fmt_si)
+    fmi_core::units::parameter_error_with_units(&info, error, &fmt_si)
 }
 
 /// Checks that `key` names a parameter of one of the run-up's FMUs.
@@ -233,13 +234,13 @@ fn unit_spaces_as_dots(t: &str) -> String {
 }
 
 /// "number" (SI) or "number unit" (the SI unit or one of its declared display units) -> SI.
-fn real_si(var: &fmi2::Variable, t: &str) -> Result<f64, String> {
+fn real_si(var: &fmi_core::variables::Variable, t: &str) -> Result<f64, String> {
     let (num, unit) =
         cosim::system::split_quantity(t).ok_or("expected 'number' or 'number unit'")?;
     let si = if unit.is_empty() || Some(unit) == var.unit {
         num
     } else {
-        let def = var.unit.and_then(fmi2::units::unit);
+        let def = var.unit.and_then(fmi_core::units::unit);
         let (_, factor, offset) = def
             .and_then(|d| d.display_units.iter().find(|u| u.0 == unit))
             .ok_or_else(|| {

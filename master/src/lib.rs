@@ -9,6 +9,7 @@ pub use runup_analysis as analysis;
 
 pub mod calm_steps;
 pub mod design;
+pub mod error;
 pub mod export_ssp;
 pub mod flexible;
 pub mod fmu_params;

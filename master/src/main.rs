@@ -45,7 +45,7 @@ enum Command {
     Modal(commands::modal::Args),
     /// Linear stability: static equilibrium, Campbell table with damping, threshold speed.
     #[command(allow_negative_numbers = true)]
-    Stability(master::stability::cli::StabilityArgs),
+    Stability(commands::stability::Args),
     /// Classify a finished run folder again from its timeseries.csv (prints JSON: class, onset,
     /// first bearing, maximum eccentricities, criteria).
     #[command(allow_negative_numbers = true)]
@@ -53,7 +53,7 @@ enum Command {
     /// The air-film library alone along a journal orbit from a CSV file, fed as FMPy's simulate_fmu
     /// feeds airfilm.fmu (cross-check; see docs/fmu-guide.md).
     #[command(allow_negative_numbers = true)]
-    Orbit(master::orbit::OrbitArgs),
+    Orbit(commands::orbit::Args),
     /// Periodic whirl orbits at constant speeds (shooting on the co-simulation), their Floquet
     /// multipliers, and the branch continued in speed to its Hopf point (orbits.json).
     #[command(allow_negative_numbers = true)]
@@ -65,7 +65,7 @@ enum Command {
     #[command(allow_negative_numbers = true)]
     Optimize(commands::optimize::Args),
     /// Write a system file as an SSP 1.0 archive (SystemStructure.ssd + the FMUs) for other tools.
-    ExportSsp(master::export_ssp::ExportSspArgs),
+    ExportSsp(commands::export_ssp::Args),
 }
 
 /// Commands whose product is their standard output end quietly when the reader goes away
@@ -92,8 +92,7 @@ fn quiet_on_closed_stdout(command: &Command) {
 fn main() -> ExitCode {
     let cli = Cli::parse();
     quiet_on_closed_stdout(&cli.command);
-    let done = |r: Result<(), String>| r.map(|_| ExitCode::SUCCESS);
-    let result: Result<ExitCode, String> = match cli.command {
+    let result: Result<ExitCode, master::error::Error> = match cli.command {
         Command::Runup(a) => commands::runup::execute(a),
         Command::Run(a) => commands::run::execute(a),
         Command::Resume(a) => commands::resume::execute(a),
@@ -102,10 +101,10 @@ fn main() -> ExitCode {
         Command::SweepSensitivity(a) => commands::sweep_sensitivity::execute(a),
         Command::SweepOrbits(a) => commands::sweep_orbits::execute(a),
         Command::Modal(a) => commands::modal::execute(a),
-        Command::Stability(a) => done(master::stability::cli::run_cli(&a).map(|_| ())),
+        Command::Stability(a) => commands::stability::execute(a),
         Command::Classify(a) => commands::classify::execute(a),
-        Command::Orbit(a) => done(master::orbit::run_cli(&a)),
-        Command::ExportSsp(a) => done(master::export_ssp::run_cli(&a)),
+        Command::Orbit(a) => commands::orbit::execute(a),
+        Command::ExportSsp(a) => commands::export_ssp::execute(a),
         Command::Orbits(a) => commands::orbits::execute(a),
         Command::Optimize(a) => commands::optimize::execute(a),
     };
@@ -115,5 +114,91 @@ fn main() -> ExitCode {
             eprintln!("airring: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    //! Each command's refusals come out as the variant of their kind: a caller tells a refused
+    //! flag, input file or folder from a failed run without reading the text.
+    use super::*;
+    use master::error::Error;
+    use master::out_folder::FolderError;
+
+    fn execute(args: &[&str]) -> Result<ExitCode, Error> {
+        let cli = Cli::try_parse_from(std::iter::once("airring").chain(args.iter().copied()))
+            .expect("the arguments parse");
+        match cli.command {
+            Command::Runup(a) => commands::runup::execute(a),
+            Command::Sweep(a) => commands::sweep::execute(a),
+            Command::Resume(a) => commands::resume::execute(a),
+            Command::Optimize(a) => commands::optimize::execute(a),
+            Command::Classify(a) => commands::classify::execute(a),
+            Command::Modal(a) => commands::modal::execute(a),
+            _ => unreachable!("not used here"),
+        }
+    }
+
+    fn scratch(name: &str) -> std::path::PathBuf {
+        let d = std::env::temp_dir().join(format!("airring-errors-{name}-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        d
+    }
+
+    #[test]
+    fn refused_flags_are_flag_errors() {
+        let e = execute(&["runup", "--clearance", "-3"]).unwrap_err();
+        assert!(matches!(&e, Error::Flag(m) if m.contains("-3")), "{e:?}");
+        let e = execute(&["runup", "--checkpoint-every", "0"]).unwrap_err();
+        assert!(
+            matches!(&e, Error::Flag(m) if m.starts_with("--checkpoint-every")),
+            "{e:?}"
+        );
+        let e = execute(&["sweep", "x.toml", "--linear", "--jobs", "2"]).unwrap_err();
+        assert!(
+            matches!(&e, Error::Flag(m) if m.starts_with("--linear")),
+            "{e:?}"
+        );
+        let e = execute(&["modal", "--rotor", "r.toml", "--c", "500"]).unwrap_err();
+        assert!(
+            matches!(&e, Error::Flag(m) if m.contains("--bearing-nodes")),
+            "{e:?}"
+        );
+    }
+
+    #[test]
+    fn unreadable_input_files_are_input_errors() {
+        let d = scratch("input");
+        let missing = d.join("missing.toml");
+        let missing = missing.to_str().unwrap();
+        for args in [
+            vec!["sweep", missing],
+            vec!["optimize", missing],
+            vec!["classify", missing],
+            vec!["resume", d.to_str().unwrap()],
+        ] {
+            let e = execute(&args).unwrap_err();
+            assert!(matches!(&e, Error::Input(_)), "{args:?}: {e:?}");
+        }
+        let _ = std::fs::remove_dir_all(&d);
+    }
+
+    /// A folder holding a run is refused, typed, before anything runs (no FMUs are needed).
+    #[test]
+    fn an_occupied_output_folder_is_a_folder_error() {
+        let d = scratch("folder");
+        std::fs::write(d.join("system.toml"), "").unwrap();
+        std::fs::write(d.join("summary.json"), r#"{"status": "completed"}"#).unwrap();
+        let e = execute(&["runup", "--stop", "0.1", "--out", d.to_str().unwrap()]).unwrap_err();
+        assert!(
+            matches!(&e, Error::Folder(FolderError::RunExists { path, .. }) if *path == d),
+            "{e:?}"
+        );
+        assert!(
+            e.to_string().contains("--overwrite"),
+            "the message as before: {e}"
+        );
+        let _ = std::fs::remove_dir_all(&d);
     }
 }

@@ -1,6 +1,7 @@
 //! `airring modal`: eigenfrequencies and mode shapes of the rotor on linear film springs
 //! (paper Section 2.3), at one or more speeds (Campbell data), printed and written to modal.json.
 
+use crate::error::{Classify, Error};
 use crate::plot::{Chart, Figure, Rgb, Role};
 use fmu_rotor::linear::{lateral_matrices, modes, Whirl};
 use fmu_rotor::{FilmCoefficients, RotorParams};
@@ -63,15 +64,15 @@ pub fn modal(
     speeds_hz: &[f64],
     rings: &RingFlags,
     out: Option<&Path>,
-) -> Result<serde_json::Value, String> {
-    rings.check()?;
+) -> Result<serde_json::Value, Error> {
+    rings.check().flag()?;
     let RingFlags {
         c_n_per_mm,
         d_n_s_per_m,
         film_n_per_mm,
         m_r_g,
     } = *rings;
-    check_speeds(speeds_hz)?;
+    check_speeds(speeds_hz).flag()?;
     let mut p = RotorParams::paper();
     p.c_c_n_m = c_n_per_mm * 1e3;
     p.c_t_n_m = c_n_per_mm * 1e3;
@@ -79,13 +80,13 @@ pub fn modal(
     p.d_t_n_s_m = d_n_s_per_m;
     p.m_r_c_kg = m_r_g * 1e-3;
     p.m_r_t_kg = m_r_g * 1e-3;
-    p.validate().map_err(|e| e.to_string())?;
+    p.validate().flag()?;
     let film = FilmCoefficients::isotropic(film_n_per_mm * 1e3, 0.0);
     let mut table = vec![];
     println!("modal analysis: c = {c_n_per_mm} N/mm, d = {d_n_s_per_m} N s/m, film springs {film_n_per_mm} N/mm, m_R = {m_r_g} g");
     for &f in speeds_hz {
         let lm = lateral_matrices(&p, f * std::f64::consts::TAU, &[film, film]);
-        let ms = modes(&lm).map_err(|e| e.to_string())?;
+        let ms = modes(&lm).run()?;
         println!("speed {f} Hz:");
         let mut rows = vec![];
         for (k, m) in ms.iter().enumerate() {
@@ -130,7 +131,8 @@ pub fn modal(
             &v,
             "Campbell diagram (rotor on linear film springs, undamped)",
             None,
-        )?;
+        )
+        .output()?;
     }
     Ok(v)
 }
@@ -360,7 +362,7 @@ mod tests {
         ] {
             let (speeds, c, d, film, m_r) = args;
             let e = modal(&speeds, &flags(c, d, film, m_r), None).unwrap_err();
-            assert!(e.starts_with(why), "{e}");
+            assert!(matches!(&e, Error::Flag(m) if m.starts_with(why)), "{e:?}");
         }
     }
 }

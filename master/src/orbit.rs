@@ -17,9 +17,11 @@
 //! - outputs are recorded after initialization and after every step.
 //!
 //! Here the same arithmetic feeds `AirFilm::advance`, and the input polynomial is evaluated with the
-//! FMU layer's own `fmi2::Inputs::real_at`, so the two results agree to the last bit.
+//! FMU layer's own `fmi_core::model::Inputs::real_at`, so the two results agree to the last bit.
 
-use fmi2::{Inputs, Model, VarType, MAX_INPUT_DERIVATIVE_ORDER};
+use crate::error::{Classify, Error};
+use fmi_core::model::{Inputs, Model, MAX_INPUT_DERIVATIVE_ORDER};
+use fmi_core::variables::VarType;
 use fmu_airfilm::shell::{params_from, vr, AirFilmFmu};
 use fmu_airfilm::{AirFilm, FilmOutputs, JournalState};
 use std::path::{Path, PathBuf};
@@ -223,7 +225,7 @@ pub fn communication_points(start: f64, stop: f64, interval: f64) -> Vec<f64> {
 }
 
 /// Parses `NAME=VALUE` and writes the value into `store` as airfilm.fmu would receive it.
-pub fn set_param(store: &mut fmi2::Store, spec: &str) -> Result<(), String> {
+pub fn set_param(store: &mut fmi_core::model::Store, spec: &str) -> Result<(), String> {
     let info = AirFilmFmu::info();
     let (name, value) = spec
         .split_once('=')
@@ -231,7 +233,7 @@ pub fn set_param(store: &mut fmi2::Store, spec: &str) -> Result<(), String> {
     let (name, value) = (name.trim(), value.trim());
     let var = info
         .by_name(name)
-        .filter(|v| v.causality == fmi2::Causality::Parameter)
+        .filter(|v| v.causality == fmi_core::variables::Causality::Parameter)
         .ok_or_else(|| format!("--param '{spec}': airfilm.fmu has no parameter '{name}'"))?;
     let bad = |what: &str| format!("--param '{spec}': {name} expects {what}");
     match var.var_type {
@@ -251,7 +253,7 @@ pub fn set_param(store: &mut fmi2::Store, spec: &str) -> Result<(), String> {
             let si = if unit.is_empty() || Some(unit) == var.unit {
                 num
             } else {
-                let u = var.unit.and_then(fmi2::units::unit);
+                let u = var.unit.and_then(fmi_core::units::unit);
                 let (_, factor, offset) = u
                     .and_then(|u| u.display_units.iter().find(|d| d.0 == unit))
                     .ok_or_else(|| {
@@ -317,7 +319,7 @@ pub fn run_orbit(
         ));
     }
     let info = AirFilmFmu::info();
-    let mut store = fmi2::Store::from_info(&info);
+    let mut store = fmi_core::model::Store::from_info(&info);
     for p in params {
         set_param(&mut store, p)?;
     }
@@ -395,20 +397,23 @@ pub fn write_csv(path: &Path, rows: &[Row]) -> Result<(), String> {
 }
 
 /// The command: read, run, write, report.
-pub fn run_cli(a: &OrbitArgs) -> Result<(), String> {
-    let text =
-        std::fs::read_to_string(&a.input).map_err(|e| format!("{}: {e}", a.input.display()))?;
-    let table = Table::parse(&text, &a.input)?;
+pub fn run_cli(a: &OrbitArgs) -> Result<(), Error> {
+    let text = std::fs::read_to_string(&a.input)
+        .map_err(|e| Error::Input(format!("{}: {e}", a.input.display())))?;
+    let table = Table::parse(&text, &a.input).input()?;
     let stop = a
         .stop
         .unwrap_or(*table.t_s.last().expect("at least one row"));
     if !(a.step.is_finite() && a.step > 0.0) {
-        return Err(format!("--step {} us must be > 0", n(a.step)));
+        return Err(Error::Flag(format!("--step {} us must be > 0", n(a.step))));
     }
     // Checked before the note on the table's range, which a non-finite time would only confuse.
     for (flag, t) in [("--start", a.start), ("--stop", stop)] {
         if !t.is_finite() {
-            return Err(format!("{flag} = {} s must be a finite number", n(t)));
+            return Err(Error::Flag(format!(
+                "{flag} = {} s must be a finite number",
+                n(t)
+            )));
         }
     }
     let (first, last) = (table.t_s[0], *table.t_s.last().expect("at least one row"));
@@ -433,8 +438,9 @@ pub fn run_cli(a: &OrbitArgs) -> Result<(), String> {
         stop,
         interval_s,
         a.input_derivatives,
-    )?;
-    write_csv(&a.out, &rows)?;
+    )
+    .run()?;
+    write_csv(&a.out, &rows).output()?;
     eprintln!(
         "orbit: {} communication steps to t = {} s in {:.2} s wall -> {}",
         rows.len() - 1,
@@ -498,7 +504,7 @@ mod tests {
             "{e}"
         );
 
-        let mut store = fmi2::Store::from_info(&AirFilmFmu::info());
+        let mut store = fmi_core::model::Store::from_info(&AirFilmFmu::info());
         set_param(&mut store, "C=25 um").unwrap();
         assert_eq!(store.real(vr::C), 25.0 / 1e6);
         set_param(&mut store, "n_elem_phi=10").unwrap();

@@ -83,15 +83,23 @@ fn the_cosim_library_links_no_physics_and_no_application_crates() {
     }
 }
 
-/// The FMI 3.0 layer knows the FMI 2.0 layer's model interface and no model; each twin links its
-/// own model crate only; the physics crates do not know FMI 3.0 exists. The co-simulation library
-/// links it for its importer (it drives FMUs of either version).
+/// The FMI 3.0 layer is glue over the FMI core's model layer, a sibling of the FMI 2.0 glue, not
+/// built on it; it knows no model. Each twin links its own model crate only; the physics crates
+/// do not know FMI 3.0 exists. The co-simulation library links it for its importer (it drives
+/// FMUs of either version).
 #[test]
 fn the_fmi3_layer_links_no_model_and_each_twin_only_its_own() {
     let g = graph();
     let fmi3 = closure(&g, "fmi3");
-    assert!(fmi3.contains("fmi2"), "{fmi3:?}");
-    for forbidden in ["fmu-airfilm", "fmu-rotor", "bearing", "cosim", "master"] {
+    assert!(fmi3.contains("fmi-core"), "{fmi3:?}");
+    for forbidden in [
+        "fmi2",
+        "fmu-airfilm",
+        "fmu-rotor",
+        "bearing",
+        "cosim",
+        "master",
+    ] {
         assert!(!fmi3.contains(forbidden), "fmi3 links {forbidden}");
     }
     let film3 = closure(&g, "fmu-airfilm-fmi3");
@@ -239,5 +247,33 @@ fn the_design_search_knows_no_airring_crate() {
     let search = closure(&g, "design-search");
     for other in g.keys().filter(|k| *k != "design-search") {
         assert!(!search.contains(other), "design-search links {other}");
+    }
+}
+
+/// The models implement the FMI core's model layer; each standard's glue is linked only to export
+/// it (the FMI 2.0 glue behind the model crate's `fmu` feature, the FMI 3.0 glue by the twin), so
+/// the master and the tests link the physics without either standard's C symbols.
+#[test]
+fn the_models_implement_the_core_and_link_a_standard_only_to_export() {
+    let root = integration_tests::workspace_root();
+    for model in ["fmu-airfilm", "fmu-rotor", "tests/oscillator"] {
+        let t = manifest(&root.join(model));
+        let deps = t["dependencies"].as_table().unwrap();
+        assert!(
+            deps.contains_key("fmi-core"),
+            "{model} does not link fmi-core"
+        );
+        assert!(!deps.contains_key("fmi3"), "{model} links fmi3");
+        let fmi2 = &deps["fmi2"];
+        assert_eq!(
+            fmi2.get("optional").and_then(|o| o.as_bool()),
+            Some(true),
+            "{model}: fmi2 must be optional (feature fmu)"
+        );
+        let fmu = t["features"]["fmu"].as_array().unwrap();
+        assert!(
+            fmu.iter().any(|f| f.as_str() == Some("dep:fmi2")),
+            "{model}: {fmu:?}"
+        );
     }
 }

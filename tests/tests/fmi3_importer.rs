@@ -88,7 +88,7 @@ fn the_importer_reads_the_twins_description() {
     for v2 in md2
         .variables
         .iter()
-        .filter(|v| v.var_type == fmi2::VarType::Real)
+        .filter(|v| v.var_type == fmi_core::variables::VarType::Real)
     {
         let v3 = md.variable(&v2.name).expect("same variable");
         assert_eq!(

@@ -1,7 +1,7 @@
 //! The FMI layer through the real C ABI of the packed test FMU (`oscillator.fmu`): lifecycle, call
 //! checks, input derivatives, FMU states, panics, and several instances per process.
 
-use fmi2::Status;
+use fmi_core::Status;
 use fmu_oscillator::vr;
 use integration_tests::{initialized, load, LogBook};
 use std::f64::consts::PI;

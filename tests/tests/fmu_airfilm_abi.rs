@@ -2,7 +2,7 @@
 //! instances, states, and clear refusals of bad parameters and inputs.
 
 use fmi2::importer::Slave;
-use fmi2::Status;
+use fmi_core::Status;
 use fmu_airfilm::shell::vr;
 use fmu_airfilm::{AirFilm, BearingParams, JournalState};
 use integration_tests::{initialized, load, LogBook};

@@ -1,7 +1,7 @@
 //! `rotor.fmu` through the C ABI: run-up outputs, output derivatives, states, bad input.
 
 use fmi2::importer::Slave;
-use fmi2::Status;
+use fmi_core::Status;
 use fmu_rotor::shell::vr;
 use integration_tests::{initialized, load, LogBook};
 

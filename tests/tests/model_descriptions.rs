@@ -1,10 +1,10 @@
 //! The checked-in modelDescriptions/*.xml are exactly what the variable tables generate, and the
 //! tables keep their invariants (dense value references, start values, known units).
 
-use fmi2::Model;
+use fmi_core::model::Model;
 use integration_tests::workspace_root;
 
-fn check(info: fmi2::ModelInfo) {
+fn check(info: fmi_core::variables::ModelInfo) {
     info.check().unwrap();
     let path = workspace_root()
         .join("modelDescriptions")
@@ -86,7 +86,7 @@ fn outputs_declare_no_direct_dependency_on_inputs() {
         let n_outputs = info
             .variables
             .iter()
-            .filter(|v| v.causality == fmi2::Causality::Output)
+            .filter(|v| v.causality == fmi_core::variables::Causality::Output)
             .count();
         assert_eq!(unknowns.len(), n_outputs);
         for u in unknowns {

@@ -129,7 +129,7 @@ impl Driver for Ours {
     }
     fn get(&self, name: &str) -> f64 {
         let var = self.fmu.description.variable(name).unwrap();
-        if var.var_type == fmi2::VarType::Integer {
+        if var.var_type == fmi_core::variables::VarType::Integer {
             let mut v = [0];
             self.slave.get_integer(&[var.vr], &mut v).unwrap();
             return v[0] as f64;

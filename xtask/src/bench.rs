@@ -4,7 +4,7 @@
 //! run's summary.json. `--load` keeps one busy thread running beside the run-ups (a competing
 //! process on a 2-core machine), so the figure under load is one command too.
 
-use crate::{cargo, pack, root, run};
+use crate::{cargo, pack, root, run, target_dir};
 use std::path::PathBuf;
 use std::process::{Command, Stdio};
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -150,7 +150,7 @@ pub fn runup(o: &Options) -> Result<(), String> {
     let result = (|| {
         for i in 0..o.runs {
             let dir: PathBuf = out.join(format!("run{i}"));
-            let mut cmd = Command::new(root().join("target/release/airring"));
+            let mut cmd = Command::new(target_dir().join("release/airring"));
             cmd.current_dir(root())
                 .args(["runup", "--preset", &o.preset, "--stop"])
                 .arg(o.stop_s.to_string())

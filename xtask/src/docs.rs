@@ -7,7 +7,7 @@
 //!   documentation resolves, and no page but docs/archive.md keeps a dated change log (the word
 //!   "session" or a date): docs say what is, git history says how it came to be.
 
-use crate::{cargo, root, run};
+use crate::{cargo, root, run, target_dir};
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -19,7 +19,7 @@ fn airring() -> Result<PathBuf, String> {
         "build airring",
         cargo().args(["build", "-p", "master", "--bin", "airring"]),
     )?;
-    Ok(root().join("target/debug/airring"))
+    Ok(target_dir().join("debug/airring"))
 }
 
 fn help(exe: &Path, args: &[&str]) -> Result<String, String> {

@@ -28,6 +28,15 @@ fn root() -> PathBuf {
         .to_path_buf()
 }
 
+/// Where cargo puts its builds: `$CARGO_TARGET_DIR` (relative to the workspace root, as cargo
+/// reads it from the root), else `target/`. The FMUs are packed into its `fmu/`.
+fn target_dir() -> PathBuf {
+    match std::env::var_os("CARGO_TARGET_DIR") {
+        Some(d) if !d.is_empty() => root().join(d),
+        _ => root().join("target"),
+    }
+}
+
 /// Runs a command in the workspace root, echoing it; an error names the failed step.
 fn run(step: &str, cmd: &mut Command) -> Result<(), String> {
     cmd.current_dir(root());
@@ -145,7 +154,7 @@ fn runup(args: &[String]) -> Result<(), String> {
         "build master",
         cargo().args(["build", "--release", "-p", "master"]),
     )?;
-    let mut cmd = Command::new(root().join("target/release/airring"));
+    let mut cmd = Command::new(target_dir().join("release/airring"));
     cmd.arg("runup");
     if args.is_empty() {
         cmd.args(["--preset", "path1"]);

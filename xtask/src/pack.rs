@@ -1,7 +1,8 @@
 //! Building and packing the FMUs, and the generated modelDescription.xml files.
 
-use super::{cargo, root, run};
-use fmi2::{Model, ModelInfo};
+use super::{cargo, root, run, target_dir};
+use fmi_core::model::Model;
+use fmi_core::variables::ModelInfo;
 use std::io::Write;
 
 /// Every FMU we ship or test: (cargo package, library file stem, interface).
@@ -47,7 +48,7 @@ pub fn fmus(glibc: Option<&str>) -> Result<(), String> {
     let lib_dir = match glibc {
         None => {
             cmd.args(["build", "--release", "--lib"]);
-            root().join("target/release")
+            target_dir().join("release")
         }
         Some(v) => {
             let ok = std::process::Command::new("cargo-zigbuild")
@@ -63,7 +64,7 @@ pub fn fmus(glibc: Option<&str>) -> Result<(), String> {
             }
             cmd.args(["zigbuild", "--release", "--lib", "--target"])
                 .arg(format!("x86_64-unknown-linux-gnu.{v}"));
-            root().join("target/x86_64-unknown-linux-gnu/release")
+            target_dir().join("x86_64-unknown-linux-gnu/release")
         }
     };
     // One build for all FMUs: no FMU crate links another (the rotor and the air film share
@@ -74,7 +75,7 @@ pub fn fmus(glibc: Option<&str>) -> Result<(), String> {
     }
     cmd.args(["--features", &features()]);
     run("build FMU binaries", &mut cmd)?;
-    let out_dir = root().join("target/fmu");
+    let out_dir = target_dir().join("fmu");
     std::fs::create_dir_all(&out_dir).map_err(|e| e.to_string())?;
     for (_, stem, info, _) in &table {
         let so = lib_dir.join(format!("lib{stem}.so"));

@@ -36,7 +36,7 @@ pub fn run(system: &Path, cfg: &RunConfig, resume: bool) -> Result<RunReport, co
         system,
         cfg,
         resume,
-        Arc::new(|_: &fmi2::importer::LogRecord| {}),
+        Arc::new(|_: &fmi_core::LogRecord| {}),
         &mut [&mut csv],
     )
 }

@@ -3,12 +3,12 @@
 //! Used by the `airring` master and the integration tests. Unlike the `fmi` crate it can set input
 //! derivatives, get and serialize FMU states, and it reports every status code faithfully.
 
-mod description;
+pub mod description;
 mod library;
 mod slave;
 
-pub use description::{ModelDescription, ScalarVariable, UnitInfo};
 pub use fmi_core::archive::{folder_of, unpack, unpack_unless_folder, ImportError, UnpackedDir};
+pub use fmi_core::description::{ModelDescription, ScalarVariable, UnitInfo};
 pub use library::Api;
 pub use slave::{check, lossy, CallError, FmuState, LogHandler, LogRecord, Slave};
 
@@ -58,7 +58,7 @@ impl Fmu {
                 path.display()
             ))
         })?;
-        let description = ModelDescription::parse(&xml)
+        let description = description::parse(&xml)
             .map_err(|e| ImportError(format!("{}: {e}", md_path.display())))?;
         let lib = dir
             .join("binaries")

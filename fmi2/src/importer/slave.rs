@@ -2,23 +2,9 @@
 
 use super::{Api, ImportError};
 use crate::types::*;
-use std::ffi::{c_char, c_void, CStr, CString};
+pub use fmi_core::{lossy, LogHandler, LogRecord};
+use std::ffi::{c_char, c_void, CString};
 use std::sync::Arc;
-
-/// One message an FMU logged.
-#[derive(Clone, Debug)]
-pub struct LogRecord {
-    pub instance: String,
-    pub status: Status,
-    /// The standard of the FMU that logged it ("fmi2", "fmi3"): the prefix of the status's C
-    /// name (`fmi2Warning`, `fmi3Warning`).
-    pub standard: &'static str,
-    pub category: String,
-    pub message: String,
-}
-
-/// Receives every message the FMU logs (called on the thread that called into the FMU).
-pub type LogHandler = Arc<dyn Fn(&LogRecord) + Send + Sync>;
 
 /// Component environment handed to the FMU; the C shim reads `sink` (first field) and calls it.
 #[repr(C)]
@@ -38,20 +24,6 @@ extern "C" {
     );
     fn calloc(n: usize, size: usize) -> *mut c_void;
     fn free(p: *mut c_void);
-}
-
-/// A C string from an FMU as owned text (lossy UTF-8; empty for null). Shared with the FMI 3.0
-/// importer.
-///
-/// # Safety
-/// `s` is null or NUL-terminated.
-pub unsafe fn lossy(s: Fmi2String) -> String {
-    if s.is_null() {
-        String::new()
-    } else {
-        // SAFETY: FMU passes NUL-terminated strings.
-        unsafe { CStr::from_ptr(s) }.to_string_lossy().into_owned()
-    }
 }
 
 unsafe extern "C" fn sink(
@@ -221,7 +193,7 @@ impl Slave {
     pub fn set_debug_logging(&self, on: bool, categories: &[&str]) -> Result<(), CallError> {
         let owned: Vec<CString> = categories
             .iter()
-            .map(|s| crate::logging::to_cstring(s))
+            .map(|s| fmi_core::logging::to_cstring(s))
             .collect();
         let ptrs: Vec<*const c_char> = owned.iter().map(|s| s.as_ptr()).collect();
         // SAFETY: valid array of C strings.

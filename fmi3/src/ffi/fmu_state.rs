@@ -1,12 +1,13 @@
-//! FMU states: a boxed copy of the fmi2 instance's `Core` (phase, store, model, times), serialized
-//! with `fmi2::snapshot`, so a blob has the same format in the FMI 2.0 and FMI 3.0 exports.
+//! FMU states: a boxed copy of the core instance's `Core` (phase, store, model, times), serialized
+//! with `fmi_core::snapshot`, so a blob has the same format in the FMI 2.0 and FMI 3.0 exports.
 
 use super::{null_argument, slice, slice_mut, with};
 use crate::instance::Res;
 use crate::state;
 use crate::types::*;
-use fmi2::instance::Core;
-use fmi2::{Model, Status};
+use fmi_core::instance::Core;
+use fmi_core::model::Model;
+use fmi_core::Status;
 
 /// An FMU state handed to the importer: a boxed core plus a magic to recognise it.
 pub struct StateBox<M: Model> {
@@ -120,7 +121,7 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(
             return null_argument(inst, F, "FMUState or size");
         };
         inst.run(F, state::MASK_SERIALIZE_FMU_STATE, |i| {
-            let n = fmi2::snapshot::serialize(&b.core, &i.inner.guid).len();
+            let n = fmi_core::snapshot::serialize(&b.core, &i.inner.guid).len();
             // SAFETY: checked non-null.
             unsafe { *size = n };
             Ok(Status::Ok)
@@ -145,7 +146,7 @@ pub unsafe fn serialize_fmu_state<M: Model>(
             return null_argument(inst, F, "FMUState or serializedState");
         };
         inst.run(F, state::MASK_SERIALIZE_FMU_STATE, |i| {
-            let blob = fmi2::snapshot::serialize(&b.core, &i.inner.guid);
+            let blob = fmi_core::snapshot::serialize(&b.core, &i.inner.guid);
             if blob.len() != size {
                 return Err((
                     Status::Error,
@@ -176,8 +177,8 @@ pub unsafe fn deserialize_fmu_state<M: Model>(
             return null_argument(inst, F, "serializedState or FMUState");
         };
         inst.run(F, state::MASK_DESERIALIZE_FMU_STATE, |i| {
-            let shape = fmi2::Store::from_info(&i.inner.info);
-            let core = fmi2::snapshot::deserialize::<M>(data, &i.inner.guid, &shape)
+            let shape = fmi_core::model::Store::from_info(&i.inner.info);
+            let core = fmi_core::snapshot::deserialize::<M>(data, &i.inner.guid, &shape)
                 .map_err(|e| (Status::Error, e))?;
             // SAFETY: checked non-null; FMI contract: *state is null or a state of this FMU.
             unsafe {

@@ -2,12 +2,14 @@
 
 use super::{null_argument, slice, string, with};
 use crate::instance::{Instance, Shell};
-use crate::logging::{all_log_categories, log_without_instance, Sink};
+use crate::logging::{all_log_categories, log_without_instance};
 use crate::state;
 use crate::types::*;
-use fmi2::{Model, Status};
+use fmi_core::model::Model;
+use fmi_core::Status;
 use std::ffi::c_char;
 use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::PathBuf;
 
 pub fn version() -> *const c_char {
     VERSION.as_ptr() as *const c_char
@@ -81,39 +83,28 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
                 "the model's variable table does not fit FMI 3.0: {e}"
             ));
         }
-        let sink = Sink::new(
+        let logger = crate::logging::logger(
             log_message,
             instance_environment,
+            name,
             logging_on,
             &all_log_categories(&info),
         );
-        // FMI 3.0 passes a native path; the fmi2 instance takes a file: URI.
-        let uri = resources
-            .filter(|p| !p.is_empty())
-            .map(|p| fmi2::resource::path_to_uri(std::path::Path::new(p)));
-        // Logging on for the fmi2 logger, its categories the sink's: the sink applies the FMI 3.0
-        // filter (logging.rs).
-        match fmi2::instance::Instance::<M>::new(
-            name,
-            token,
-            uri.as_deref(),
-            Some(sink.fmi2_callbacks()),
-            true,
-        ) {
-            Ok(mut inner) => {
-                sink.mirror_into(&mut inner.logger);
-                Box::into_raw(Box::new(Shell::new(
-                    Instance::new(inner, sink),
-                    early_return_allowed,
-                    intermediate_update,
-                    instance_environment,
-                ))) as fmi3Instance
-            }
+        // FMI 3.0 passes a native path, and an absolute one (section 2.3.1).
+        let resources = match resources.filter(|p| !p.is_empty()) {
+            None => Ok(None),
+            Some(p) if std::path::Path::new(p).is_absolute() => Ok(Some(PathBuf::from(p))),
+            Some(p) => Err(format!("resource path '{p}' is not absolute")),
+        };
+        match fmi_core::instance::Instance::<M>::new(name, token, resources, logger) {
+            Ok(inner) => Box::into_raw(Box::new(Shell::new(
+                Instance::new(inner),
+                early_return_allowed,
+                intermediate_update,
+                instance_environment,
+            ))) as fmi3Instance,
             Err((logger, reason)) => {
                 logger.reject(Status::Error, F, &reason);
-                // The logger points to the sink: drop it first.
-                drop(logger);
-                drop(sink);
                 std::ptr::null_mut()
             }
         }
@@ -196,8 +187,7 @@ pub unsafe fn set_debug_logging<M: Model>(
             return null_argument(inst, F, "a category name");
         };
         inst.run(F, state::MASK_SET_DEBUG_LOGGING, |i| {
-            let unknown = i.sink.set_debug_logging(logging_on, &names);
-            i.sink.mirror_into(&mut i.inner.logger);
+            let unknown = i.inner.logger.set_debug_logging(logging_on, &names);
             if unknown.is_empty() {
                 Ok(Status::Ok)
             } else {

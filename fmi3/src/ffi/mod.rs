@@ -17,13 +17,14 @@ pub mod values;
 
 use crate::instance::{Instance, Shell, INSTANCE_MAGIC};
 use crate::types::*;
-use fmi2::instance::Phase;
-use fmi2::{Model, Status};
+use fmi_core::instance::Phase;
+use fmi_core::model::Model;
+use fmi_core::Status;
 use std::ffi::CStr;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 
 /// An fmi2 status on the FMI 3.0 wire (fmi2Pending has no FMI 3.0 counterpart and is never
-/// produced by the fmi2 instance; it would be an error).
+/// produced by the core instance; it would be an error).
 pub(crate) fn raw(s: Status) -> fmi3Status {
     match s {
         Status::Pending => FMI3_ERROR,

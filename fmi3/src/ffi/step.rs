@@ -1,7 +1,7 @@
 //! fmi3DoStep.
 //!
 //! FMI 3.0 has no fmi3SetInputDerivatives. Without an intermediateUpdate callback an input keeps
-//! the value set before the call over the whole step (the fmi2 instance builds `Inputs` with zero
+//! the value set before the call over the whole step (the core instance builds `Inputs` with zero
 //! derivatives, exactly as for an FMI 2.0 master that never calls fmi2SetRealInputDerivatives).
 //! With one, the model's reads at internal times ask the master (`crate::intermediate`).
 //!
@@ -18,8 +18,9 @@ use crate::instance::{Instance, Shell};
 use crate::intermediate::CallbackInputs;
 use crate::state;
 use crate::types::*;
-use fmi2::instance::Phase;
-use fmi2::{IntermediateInputs, Model, Status};
+use fmi_core::instance::Phase;
+use fmi_core::model::{IntermediateInputs, Model};
+use fmi_core::Status;
 use std::cell::Cell;
 
 /// Clears `stepping` when the step ends, also by a panic (caught further out).

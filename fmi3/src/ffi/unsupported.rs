@@ -2,7 +2,7 @@
 
 use super::not_provided;
 use crate::types::*;
-use fmi2::Model;
+use fmi_core::model::Model;
 
 pub const MODEL_EXCHANGE: &str = "this FMU supports Co-Simulation only (no <ModelExchange>)";
 pub const SCHEDULED_EXECUTION: &str =

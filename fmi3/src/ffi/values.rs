@@ -7,7 +7,8 @@ use super::{null_argument, slice, slice_mut, with};
 use crate::instance::{err, Instance, Res};
 use crate::state;
 use crate::types::*;
-use fmi2::{Model, Status};
+use fmi_core::model::Model;
+use fmi_core::Status;
 
 fn check_counts(n_value_references: usize, n_values: usize) -> Result<(), (Status, String)> {
     if n_value_references != n_values {
@@ -111,7 +112,7 @@ pub unsafe fn set_float64<M: Model>(
                 format!("nValues ({n_values}) must equal nValueReferences ({n_vr})"),
             );
         }
-        // Float64 value references are the fmi2 Real ones (`value_refs`); `set` checks each is an input.
+        // Float64 value references are the per-type Real ones (`value_refs`); `set` checks each is an input.
         let result = match shell.buffer.try_borrow_mut() {
             Ok(mut b) => b.set(vrs, vals),
             Err(_) => Err("re-entered while the buffer is in use".into()),

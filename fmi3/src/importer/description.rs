@@ -1,8 +1,8 @@
 //! An FMI 3.0 modelDescription.xml read into the importer's common description
-//! (`fmi2::importer::ModelDescription`): Float64 as Real, Int32 (and the other integer types)
+//! (`fmi_core::description::ModelDescription`): Float64 as Real, Int32 (and the other integer types)
 //! as Integer, Boolean as Boolean. Units come from the variable or its declared type.
 
-use fmi2::importer::{ModelDescription, ScalarVariable, UnitInfo};
+use fmi_core::description::{ModelDescription, ScalarVariable, UnitInfo};
 use fmi_core::variables::{Causality, VarType, Variability};
 
 fn flag(node: roxmltree::Node, name: &str) -> bool {

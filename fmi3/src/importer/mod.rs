@@ -1,9 +1,8 @@
 //! Importer: load an FMI 3.0 Co-Simulation FMU (`.fmu` archive or unpacked folder) and drive it.
 //!
-//! The sibling of `fmi2::importer`: the archive handling, the call errors, the FMU states and the
-//! slave interface come from `fmi_core`; the common description and the log records are
-//! `fmi2::importer`'s. Used by the `airring` master (through
-//! `cosim`'s slave) and the tests. It answers intermediate updates with the master's input
+//! The sibling of `fmi2::importer`: the archive handling, the call errors, the FMU states, the
+//! slave interface, the description and the log records come from `fmi_core`. Used by the
+//! `airring` master (through `cosim`'s slave) and the tests. It answers intermediate updates with the master's input
 //! polynomials (`slave`), so FMI 3.0 FMUs take inputs within a step as FMI 2.0 ones do through
 //! input derivatives.
 
@@ -15,8 +14,9 @@ pub use description::{parse, Fmi3Extras};
 pub use library::Api;
 pub use slave::{FmuState, Slave};
 
-use fmi2::importer::{LogHandler, ModelDescription};
 use fmi_core::archive::{folder_of, unpack_unless_folder, ImportError, UnpackedDir};
+use fmi_core::description::ModelDescription;
+use fmi_core::LogHandler;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 

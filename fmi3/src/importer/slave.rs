@@ -9,11 +9,11 @@
 
 use super::library::Api;
 use crate::types::*;
-use fmi2::importer::{lossy, LogHandler, LogRecord};
-use fmi2::MAX_INPUT_DERIVATIVE_ORDER;
 use fmi_core::archive::ImportError;
+use fmi_core::model::MAX_INPUT_DERIVATIVE_ORDER;
 use fmi_core::Status;
 use fmi_core::{check, CallError};
+use fmi_core::{lossy, LogHandler, LogRecord};
 use std::cell::{Cell, RefCell};
 use std::ffi::{c_char, c_void, CString};
 use std::path::Path;
@@ -119,7 +119,7 @@ unsafe extern "C" fn intermediate_update(
         for ((vr, u0), d) in p.vrs.iter().zip(&p.values).zip(&p.derivatives) {
             if d.iter().any(|x| *x != 0.0) {
                 p.send_vrs.push(*vr);
-                p.at.push(fmi2::taylor_at(*u0, d, time_s - p.t0));
+                p.at.push(fmi_core::model::taylor_at(*u0, d, time_s - p.t0));
             }
         }
         // SAFETY: the FMU's own instance, inside its callback (Intermediate Update Mode), with

@@ -4,7 +4,7 @@
 use super::fmi3_exports::*;
 use super::lag::Lag;
 use crate::types::*;
-use fmi2::Model;
+use fmi_core::model::Model;
 use std::ffi::{c_void, CStr, CString};
 use std::sync::Mutex;
 

@@ -2,7 +2,8 @@
 //! with fault injection (`fault_mode`: 1 panics in doStep once past `fault_time`, 2 discards there,
 //! 3 discards there after half the step).
 
-use fmi2::{DefaultExperiment, Log, Model, ModelInfo, StepInputs, StepOutcome, Store, Variable};
+use fmi_core::model::{Log, Model, StepInputs, StepOutcome, Store};
+use fmi_core::variables::{DefaultExperiment, ModelInfo, Variable};
 
 pub mod vr {
     pub const TAU: u32 = 0;

@@ -2,7 +2,7 @@
 
 use super::lag::Lag;
 use crate::value_refs::{to_fmi3, TIME_VR};
-use fmi2::Model;
+use fmi_core::model::Model;
 use std::collections::HashSet;
 
 #[test]

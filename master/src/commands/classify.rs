@@ -1,5 +1,6 @@
 //! `airring classify`: a finished run folder classified again from its timeseries.csv.
 
+use master::error::{Classify, Error};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -14,51 +15,51 @@ pub struct Args {
     pub clearance: Option<f64>,
 }
 
-pub fn execute(a: Args) -> Result<ExitCode, String> {
+pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let Args { dir, clearance } = a;
     classify(&dir, clearance)
 }
 
-fn classify(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, String> {
+fn classify(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, Error> {
     if !dir.is_dir() {
-        return Err(format!(
+        return Err(Error::Input(format!(
             "{}: no such folder (classify takes a run-up's folder, e.g. runs/path1)",
             dir.display()
-        ));
+        )));
     }
     // Each bearing's clearance: the flag, else the run folder's own system file (never a default).
     let c_m = match clearance_um {
         Some(c) => {
-            master::runup::check_clearance_um(c)?;
+            master::runup::check_clearance_um(c).flag()?;
             // Where the run's films name their clearances, the film eccentricities are measured
             // against those: another clearance would classify the amplitudes against one value
             // and the eccentricities against another.
-            if let Some(bores) = master::run_folder::bores_of_run(dir)? {
+            if let Some(bores) = master::run_folder::bores_of_run(dir).input()? {
                 if bores.iter().any(|b| (b.c_m * 1e6 - c).abs() > 1e-9 * c) {
-                    return Err(format!(
+                    return Err(Error::Flag(format!(
                         "--clearance = {} um: the run's films ran with C = {} um and {} um \
                          (its system.toml); --clearance is for run folders whose system file \
                          names no air films",
                         master::runup::fmt_number(c),
                         master::runup::fmt_number(bores[0].c_m * 1e6),
                         master::runup::fmt_number(bores[1].c_m * 1e6)
-                    ));
+                    )));
                 }
             }
             [c / 1e6; 2]
         }
-        None => match master::run_folder::bores_of_run(dir)? {
+        None => match master::run_folder::bores_of_run(dir).input()? {
             Some([c, t]) => [c.c_m, t.c_m],
             None => {
-                return Err(format!(
+                return Err(Error::Input(format!(
                     "{}: its system.toml has no air films film_C and film_T to take the \
                      clearance from; give it with --clearance UM",
                     dir.display()
-                ))
+                )))
             }
         },
     };
-    let series = master::analysis::load_run(dir, c_m)?;
+    let series = master::analysis::load_run(dir, c_m).input()?;
     let cl = master::analysis::classify(&series);
     // A run that did not complete (interrupted, failed, or killed while its summary still said
     // "running") is classified on what it simulated, as its own summary says: said here too.
@@ -90,9 +91,6 @@ fn classify(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, String> {
         "borderline": cl.borderline,
         "margins": cl.margins,
     });
-    println!(
-        "{}",
-        serde_json::to_string_pretty(&out).map_err(|e| e.to_string())?
-    );
+    println!("{}", serde_json::to_string_pretty(&out).output()?);
     Ok(ExitCode::SUCCESS)
 }

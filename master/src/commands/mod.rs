@@ -3,17 +3,21 @@
 //! default, finding the FMUs, the stop signal, a run's start and end.
 
 pub mod classify;
+pub mod export_ssp;
 pub mod modal;
 pub mod optimize;
+pub mod orbit;
 pub mod orbits;
 pub mod resume;
 pub mod run;
 pub mod runup;
+pub mod stability;
 pub mod sweep;
 pub mod sweep_merge;
 pub mod sweep_orbits;
 pub mod sweep_sensitivity;
 
+use master::error::Error;
 use master::run::{run, RunOptions};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -49,7 +53,7 @@ pub fn default_out(name: &str) -> PathBuf {
     PathBuf::from("runs").join(format!("{name}-{secs}"))
 }
 
-pub fn fmu_dir(given: Option<PathBuf>) -> Result<PathBuf, String> {
+pub fn fmu_dir(given: Option<PathBuf>) -> Result<PathBuf, Error> {
     let candidates: Vec<PathBuf> = match given {
         Some(d) => vec![d],
         None => {
@@ -64,10 +68,10 @@ pub fn fmu_dir(given: Option<PathBuf>) -> Result<PathBuf, String> {
     };
     for d in &candidates {
         if d.join("rotor.fmu").exists() && d.join("airfilm.fmu").exists() {
-            return d.canonicalize().map_err(|e| e.to_string());
+            return d.canonicalize().map_err(|e| Error::Fmus(e.to_string()));
         }
     }
-    Err(format!("rotor.fmu and airfilm.fmu not found in {candidates:?}: build them with `cargo xtask fmus` or pass --fmu-dir"))
+    Err(Error::Fmus(format!("rotor.fmu and airfilm.fmu not found in {candidates:?}: build them with `cargo xtask fmus` or pass --fmu-dir")))
 }
 
 /// The paper's three-lobe geometry with the given clearance and step height [um].
@@ -152,11 +156,11 @@ pub fn jobs_at_least_one(text: &str) -> Result<usize, String> {
 }
 
 /// `--checkpoint-every`, checked with its name before a run starts.
-pub fn check_checkpoint_every(every_s: Option<f64>) -> Result<(), String> {
+pub fn check_checkpoint_every(every_s: Option<f64>) -> Result<(), Error> {
     match every_s {
-        Some(dt) if !(dt.is_finite() && dt > 0.0) => Err(format!(
+        Some(dt) if !(dt.is_finite() && dt > 0.0) => Err(Error::Flag(format!(
             "--checkpoint-every = {dt} s must be a finite number > 0 (simulated seconds)"
-        )),
+        ))),
         _ => Ok(()),
     }
 }

@@ -1,6 +1,7 @@
 //! `airring modal`: modal analysis of the rotor with linear film springs, or of a flexible rotor
 //! read from a ROSS rotor file (`--rotor`) on that file's linear bearings.
 
+use master::error::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -48,7 +49,7 @@ pub struct Args {
     pub out: Option<PathBuf>,
 }
 
-pub fn execute(a: Args) -> Result<ExitCode, String> {
+pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let Args {
         speed,
         c,
@@ -77,11 +78,11 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
     };
     if let Some(rotor) = rotor {
         if bearing_nodes.is_empty() && ring_flags.iter().any(|&given| given) {
-            return Err(
+            return Err(Error::Flag(
                 "--c, --d, --film-stiffness and --m-r describe air ring bearings: with \
                         --rotor they need --bearing-nodes"
                     .into(),
-            );
+            ));
         }
         let u = unbalance.map(|g_mm| master::flexible::Unbalance {
             node: unbalance_node.unwrap_or(0),

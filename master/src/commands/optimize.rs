@@ -2,6 +2,7 @@
 //! every tolerance corner, found by a search over design variables and verified.
 
 use super::{jobs_at_least_one, stop_flag};
+use master::error::{Classify, Error};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -35,36 +36,36 @@ pub struct Args {
     pub external_runs: bool,
 }
 
-pub fn execute(a: Args) -> Result<ExitCode, String> {
-    let text =
-        std::fs::read_to_string(&a.file).map_err(|e| format!("{}: {e}", a.file.display()))?;
-    let mut problem = master::optimize::Problem::parse(&text, &a.file)?;
+pub fn execute(a: Args) -> Result<ExitCode, Error> {
+    let text = std::fs::read_to_string(&a.file)
+        .map_err(|e| Error::Input(format!("{}: {e}", a.file.display())))?;
+    let mut problem = master::optimize::Problem::parse(&text, &a.file).input()?;
     if let Some(b) = a.budget {
         if b < 2
             || (problem.method == master::optimize::problem::SearchMethod::Ego
                 && b < problem.initial)
         {
-            return Err(format!(
+            return Err(Error::Flag(format!(
                 "--budget {b}: at least 2, and at least the initial design's {} points",
                 problem.initial
-            ));
+            )));
         }
         problem.budget = b;
     }
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("runs").join(format!("optimize-{}", problem.name)));
-    master::out_folder::check_sweep_out(&out).map_err(|e| e.to_string())?;
+    master::out_folder::check_sweep_out(&out)?;
     let opts = master::optimize::OptimizeOptions {
         out: out.clone(),
         jobs: a.jobs.unwrap_or_else(master::sweep::default_jobs),
-        exe: std::env::current_exe().map_err(|e| e.to_string())?,
+        exe: std::env::current_exe().run()?,
         quiet: a.quiet,
         stop: stop_flag(),
         no_verify: a.no_verify,
         external_runs: a.external_runs,
     };
-    let r = master::optimize::optimize(&problem, &text, &opts)?;
+    let r = master::optimize::optimize(&problem, &text, &opts).run()?;
     if let Some((study, n)) = &r.pending {
         let folder = study.parent().unwrap_or(std::path::Path::new("."));
         eprintln!(

@@ -1,6 +1,7 @@
 //! `airring orbits`: periodic whirl orbits at constant speeds and their branch.
 
 use super::fmu_dir;
+use master::error::Error;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -14,7 +15,8 @@ pub struct Args {
     pub fmu_dir: Option<PathBuf>,
 }
 
-pub fn execute(a: Args) -> Result<ExitCode, String> {
+pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let Args { args, fmu_dir: dir } = a;
-    fmu_dir(dir).and_then(|d| master::orbits::cli::run_cli(&args, d).map(|_| ExitCode::SUCCESS))
+    master::orbits::cli::run_cli(&args, fmu_dir(dir)?)?;
+    Ok(ExitCode::SUCCESS)
 }

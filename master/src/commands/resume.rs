@@ -1,6 +1,7 @@
 //! `airring resume`: continue an interrupted run from its last checkpoint.
 
 use super::{check_checkpoint_every, finish, stop_flag};
+use master::error::{Classify, Error};
 use master::run::{run, RunOptions};
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -17,7 +18,7 @@ pub struct Args {
     pub parquet: bool,
 }
 
-pub fn execute(a: Args) -> Result<ExitCode, String> {
+pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let Args {
         dir,
         checkpoint_every,
@@ -25,19 +26,19 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
     } = a;
     check_checkpoint_every(checkpoint_every)?;
     if !dir.join("system.toml").is_file() {
-        return Err(format!(
+        return Err(Error::Input(format!(
             "{}: no run to resume (no system.toml): the run never started here, or this \
              is not a run folder",
             dir.display()
-        ));
+        )));
     }
     master::out_folder::check_not_in_progress(&dir)?;
     let old = master::summary::RunSummary::read(&dir).unwrap_or_default();
     if old.status == master::summary::RunStatus::Completed {
-        return Err(format!(
+        return Err(Error::Input(format!(
             "{}: the run completed (summary.json): nothing to resume",
             dir.display()
-        ));
+        )));
     }
     if !dir.join("checkpoint").is_dir() {
         let why = old
@@ -52,11 +53,11 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
             master::summary::RunStatus::Interrupted => format!("was interrupted{why}"),
             other => format!("{}{why}", other.as_str()),
         };
-        return Err(format!(
+        return Err(Error::Input(format!(
             "{}: no checkpoint to resume from (the run {what}); run it again with \
              --overwrite",
             dir.display(),
-        ));
+        )));
     }
     let opts = RunOptions {
         out_dir: dir.clone(),
@@ -70,6 +71,6 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
         // A run that wrote Parquet goes on writing it.
         parquet: parquet || dir.join("timeseries.parquet").exists(),
     };
-    let report = run(&dir.join("system.toml"), &opts, true)?;
+    let report = run(&dir.join("system.toml"), &opts, true).run()?;
     Ok(finish(report, &dir))
 }

@@ -1,6 +1,7 @@
 //! `airring run`: any system described by a TOML system file.
 
 use super::{check_checkpoint_every, default_out, finish, lobes, new_run, stop_flag, Common};
+use master::error::{Classify, Error};
 use master::run::RunOptions;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -21,7 +22,7 @@ pub struct Args {
     pub dh: Option<f64>,
 }
 
-pub fn execute(a: Args) -> Result<ExitCode, String> {
+pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let Args {
         system,
         common,
@@ -31,13 +32,13 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
     check_checkpoint_every(common.checkpoint_every)?;
     // The clearance scales the analysis of the whole run: checked before it starts.
     if let Some(c) = clearance {
-        master::runup::check_clearance_um(c)?;
+        master::runup::check_clearance_um(c).flag()?;
     }
     if let Some(dh) = dh {
-        master::runup::check_dh_um(dh)?;
+        master::runup::check_dh_um(dh).flag()?;
     }
-    let sys = cosim::System::load(&system).map_err(|e| e.to_string())?;
-    cosim::setup::check_output_interval_whole(&sys).map_err(|e| e.to_string())?;
+    let sys = cosim::System::load(&system).input()?;
+    cosim::setup::check_output_interval_whole(&sys).input()?;
     if clearance.is_some() || dh.is_some() {
         check_no_films_named(&system)?;
     }
@@ -58,16 +59,16 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
         }),
         parquet: common.parquet,
     };
-    let report = new_run(&system, &opts)?;
+    let report = new_run(&system, &opts).run()?;
     Ok(finish(report, &out))
 }
 
 /// `run --clearance / --dh` describe the bearings of a system without air films `film_C` and
 /// `film_T`: where it has them, the analysis takes their own bores (as `classify` does), and a
 /// flag that differs would put one clearance in the summary and another in the films.
-fn check_no_films_named(system: &Path) -> Result<(), String> {
-    match master::run_folder::bores_of_system(system)? {
-        Some([c, t]) => Err(format!(
+fn check_no_films_named(system: &Path) -> Result<(), Error> {
+    match master::run_folder::bores_of_system(system).input()? {
+        Some([c, t]) => Err(Error::Flag(format!(
             "--clearance / --dh: the system's films film_C and film_T name their own bores \
              (C = {} um and {} um, dH = {} um and {} um), which the run's analysis takes; \
              --clearance and --dh are for systems without those films",
@@ -75,7 +76,7 @@ fn check_no_films_named(system: &Path) -> Result<(), String> {
             master::runup::fmt_number(t.c_m * 1e6),
             master::runup::fmt_number(c.dh_m * 1e6),
             master::runup::fmt_number(t.dh_m * 1e6)
-        )),
+        ))),
         None => Ok(()),
     }
 }

@@ -1,6 +1,7 @@
 //! `airring runup`: a run-up of the paper's rotor (or a design's) in two air ring bearings.
 
 use super::{check_checkpoint_every, default_out, finish, fmu_dir, new_run, stop_flag, Common};
+use master::error::{Classify, Error};
 use master::run::RunOptions;
 use std::process::ExitCode;
 
@@ -12,10 +13,11 @@ pub struct Args {
     pub common: Common,
 }
 
-pub fn execute(a: Args) -> Result<ExitCode, String> {
+pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let Args { args, common } = a;
-    let mut s = master::runup_cli::settings(&args)?;
-    s.validate_runup()?;
+    // The flags and the design file they name: a design file names itself in its messages.
+    let mut s = master::runup_cli::settings(&args).flag()?;
+    s.validate_runup().flag()?;
     // Every flag and the output folder checked before the calm plan's analysis runs.
     check_checkpoint_every(common.checkpoint_every)?;
     let out = common.out.clone().unwrap_or_else(|| default_out(&s.preset));
@@ -36,20 +38,20 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
     }
     // TOML is UTF-8: a folder whose name is not cannot be written into a system file.
     let dir_text = dir.to_str().ok_or_else(|| {
-        format!(
+        Error::Fmus(format!(
             "--fmu-dir {}: the folder's path is not valid UTF-8, which a system file cannot \
              hold; link or copy the FMUs to a folder with a UTF-8 name",
             dir.display()
-        )
+        ))
     })?;
     // The system file goes into the run folder only once the run has started.
-    let staged = master::out_folder::StagedSystem::new(&s.system_toml(dir_text))?;
+    let staged = master::out_folder::StagedSystem::new(&s.system_toml(dir_text)).output()?;
     eprintln!(
         "run-up '{}': {}, {}; {}; macro step {} us -> {}",
         s.preset,
-        master::runup::describe_bearings(&s)?,
+        master::runup::describe_bearings(&s).flag()?,
         s.describe_speed(),
-        master::runup::describe_film_mesh(&s)?,
+        master::runup::describe_film_mesh(&s).flag()?,
         s.macro_step_us,
         out.display()
     );
@@ -63,6 +65,6 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
         bores: None,
         parquet: common.parquet,
     };
-    let report = new_run(&staged.path, &opts).map_err(|e| staged.strip_path(e))?;
+    let report = new_run(&staged.path, &opts).map_err(|e| Error::Run(staged.strip_path(e)))?;
     Ok(finish(report, &out))
 }

@@ -1,6 +1,7 @@
 //! `airring sweep`: a parameter study of run-ups (or their linear prediction) from a study file.
 
 use super::{jobs_at_least_one, stop_flag};
+use master::error::{Classify, Error};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::sync::atomic::Ordering;
@@ -50,7 +51,7 @@ pub struct Args {
     pub linear_mesh: Option<String>,
 }
 
-pub fn execute(a: Args) -> Result<ExitCode, String> {
+pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let Args {
         study,
         out,
@@ -66,7 +67,9 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
         linear_mesh,
     } = a;
     if checkpoint_every.is_some_and(|dt| !(dt.is_finite() && dt > 0.0)) {
-        Err("--checkpoint-every must be a finite number of seconds > 0".into())
+        Err(Error::Flag(
+            "--checkpoint-every must be a finite number of seconds > 0".into(),
+        ))
     } else if linear
         && (jobs.is_some()
             || shard.is_some()
@@ -74,7 +77,7 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
             || checkpoint_every.is_some()
             || predict_first)
     {
-        Err("--linear predicts the whole study in one process: it takes no --jobs, --shard, --list, --checkpoint-every or --predict-first".into())
+        Err(Error::Flag("--linear predicts the whole study in one process: it takes no --jobs, --shard, --list, --checkpoint-every or --predict-first".into()))
     } else if linear {
         linear_sweep_command(&study, out, &speeds, linear_mesh.as_deref(), quiet)
     } else {
@@ -99,16 +102,17 @@ fn linear_sweep_command(
     speeds: &str,
     mesh: Option<&str>,
     quiet: bool,
-) -> Result<ExitCode, String> {
-    let study = master::sweep::Study::load(study_path)?;
-    let speeds = master::stability::parse_speeds(speeds)?;
+) -> Result<ExitCode, Error> {
+    let study = master::sweep::Study::load(study_path).input()?;
+    let speeds = master::stability::parse_speeds(speeds).flag()?;
     let mesh = match mesh {
         None => master::sweep_linear::DEFAULT_MESH,
-        Some(m) => master::runup::parse_mesh(m, "--linear-mesh")?,
+        Some(m) => master::runup::parse_mesh(m, "--linear-mesh").flag()?,
     };
     let out = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name)));
     master::out_folder::check_sweep_out(&out)?;
-    let (preds, maps) = master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet, None)?;
+    let (preds, maps) =
+        master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet, None).run()?;
     eprintln!(
         "linear prediction: {} points -> {}, {}",
         preds.len(),
@@ -132,7 +136,7 @@ struct SweepFlags<'a> {
     predict: Option<(&'a str, Option<&'a str>)>,
 }
 
-fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
+fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, Error> {
     use master::sweep;
     let SweepFlags {
         out,
@@ -145,10 +149,10 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
         predict,
     } = f;
     let text = std::fs::read_to_string(study_path)
-        .map_err(|e| format!("{}: {e}", study_path.display()))?;
-    let mut study = sweep::Study::parse(&text, study_path)?;
+        .map_err(|e| Error::Input(format!("{}: {e}", study_path.display())))?;
+    let mut study = sweep::Study::parse(&text, study_path).input()?;
     if list {
-        let shard = shard.map(sweep::parse_shard).transpose()?;
+        let shard = shard.map(sweep::parse_shard).transpose().flag()?;
         print!("{}", sweep::plan_json_lines(&study, shard));
         return Ok(ExitCode::SUCCESS);
     }
@@ -156,16 +160,17 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
     let out = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name)));
     master::out_folder::check_sweep_out(&out)?;
     if let Some((speeds, mesh)) = predict {
-        let speeds = master::stability::parse_speeds(speeds)?;
+        let speeds = master::stability::parse_speeds(speeds).flag()?;
         let mesh = match mesh {
             None => master::sweep_linear::DEFAULT_MESH,
-            Some(m) => master::runup::parse_mesh(m, "--linear-mesh")?,
+            Some(m) => master::runup::parse_mesh(m, "--linear-mesh").flag()?,
         };
         let cache = master::linear_cache::LinearCache::open(&sweep::linear_cache_dir(&out))
             .map_err(|e| eprintln!("warning: the prediction's analyses are not kept: {e}"))
             .ok();
         let (preds, _) =
-            master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet, cache.as_ref())?;
+            master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet, cache.as_ref())
+                .run()?;
         master::sweep_linear::longest_first(&mut study, &preds);
     }
     let opts = sweep::SweepOptions {
@@ -173,14 +178,14 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, String> {
         jobs,
         // Two film threads per run-up only while there is a core for each.
         serial_films: 2 * jobs > sweep::cores(),
-        shard: shard.map(sweep::parse_shard).transpose()?,
-        exe: std::env::current_exe().map_err(|e| e.to_string())?,
+        shard: shard.map(sweep::parse_shard).transpose().flag()?,
+        exe: std::env::current_exe().run()?,
         quiet,
         overwrite,
         stop: stop_flag(),
         checkpoint_every_s,
     };
-    let r = sweep::sweep(&study, &text, &opts)?;
+    let r = sweep::sweep(&study, &text, &opts).run()?;
     let interrupted = if r.interrupted.is_empty() {
         String::new()
     } else {

@@ -1,6 +1,7 @@
 //! `airring sweep-orbits`: every cell of a study classified from its whirl orbits at constant speed.
 
 use super::{fmu_dir, jobs_at_least_one};
+use master::error::{Classify, Error};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -29,7 +30,7 @@ pub struct Args {
     pub fmu_dir: Option<PathBuf>,
 }
 
-pub fn execute(a: Args) -> Result<ExitCode, String> {
+pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let Args {
         study,
         out,
@@ -39,7 +40,7 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
         compare,
         fmu_dir: dir,
     } = a;
-    let study = master::sweep::Study::load(&study)?;
+    let study = master::sweep::Study::load(&study).input()?;
     master::out_folder::check_sweep_out(&out)?;
     let opts = master::orbits::study::SweepOrbitsOptions {
         out,
@@ -49,7 +50,8 @@ pub fn execute(a: Args) -> Result<ExitCode, String> {
         compare,
         fmu_dir: fmu_dir(dir)?,
     };
-    let cells = master::orbits::study::sweep_orbits(&study, &opts, &|line| eprintln!("{line}"))?;
+    let cells =
+        master::orbits::study::sweep_orbits(&study, &opts, &|line| eprintln!("{line}")).run()?;
     let compared: Vec<_> = cells
         .iter()
         .filter_map(|c| c.runup_class.as_ref().map(|r| r == &c.class))

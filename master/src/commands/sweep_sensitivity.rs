@@ -1,5 +1,6 @@
 //! `airring sweep-sensitivity`: how a sweep's classes depend on the classifier's bounds.
 
+use master::error::{Classify, Error};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
@@ -12,10 +13,10 @@ pub struct Args {
     pub delta: f64,
 }
 
-pub fn execute(a: Args) -> Result<ExitCode, String> {
+pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let Args { dir, delta } = a;
-    let (runs, left_out) = master::sweep::sensitivity::sensitivity(&dir, delta)?;
-    let (path, text) = master::sweep::sensitivity::write(&dir, delta, &runs, &left_out)?;
+    let (runs, left_out) = master::sweep::sensitivity::sensitivity(&dir, delta).input()?;
+    let (path, text) = master::sweep::sensitivity::write(&dir, delta, &runs, &left_out).output()?;
     print!("{text}");
     eprintln!("-> {}", path.display());
     Ok(ExitCode::SUCCESS)

@@ -1,6 +1,7 @@
 //! `airring orbits`: flags, the printed progress and orbits.json.
 
 use super::driver::{find_orbits, OrbitsRequest};
+use crate::error::{Classify, Error};
 use std::path::PathBuf;
 
 #[derive(clap::Args, Clone, Debug)]
@@ -91,30 +92,33 @@ fn remove_stale(earlier: &[(PathBuf, std::time::SystemTime)]) {
     }
 }
 
-pub fn run_cli(args: &OrbitsArgs, fmu_dir: PathBuf) -> Result<(), String> {
+pub fn run_cli(args: &OrbitsArgs, fmu_dir: PathBuf) -> Result<(), Error> {
     // Every flag is checked before any work, as `runup` does (a NaN clearance was found only
     // after a second of settling, naming a generated system file left in --out).
-    let settings = args.bearing.settings()?;
-    settings.validate()?;
-    settings.refuse_shaft("orbits")?;
+    let settings = args.bearing.settings().flag()?;
+    settings.validate().flag()?;
+    settings.refuse_shaft("orbits").flag()?;
     if !(args.settle.is_finite() && args.settle > 0.0) {
-        return Err(format!(
+        return Err(Error::Flag(format!(
             "--settle {} s: must be a positive, finite time",
             crate::runup::fmt_number(args.settle)
-        ));
+        )));
     }
-    let speeds_hz = crate::stability::parse_speeds(&args.speeds)?;
-    let earlier = check_out(&args.out, args.overwrite)?;
+    let speeds_hz = crate::stability::parse_speeds(&args.speeds).flag()?;
+    // The folder's refusals name --out and --overwrite (orbits keep their own files).
+    let earlier = check_out(&args.out, args.overwrite).flag()?;
     // Read before hours of shooting, so that a wrong folder is refused at once.
     let runup = match &args.runup {
         Some(dir) => {
-            let bores = crate::run_folder::bores_of_run(dir)?.ok_or_else(|| {
-                format!("--runup {}: no run-up's system.toml there", dir.display())
-            })?;
-            Some(crate::analysis::load_run(
-                dir,
-                [bores[0].c_m, bores[1].c_m],
-            )?)
+            let bores = crate::run_folder::bores_of_run(dir)
+                .input()?
+                .ok_or_else(|| {
+                    Error::Input(format!(
+                        "--runup {}: no run-up's system.toml there",
+                        dir.display()
+                    ))
+                })?;
+            Some(crate::analysis::load_run(dir, [bores[0].c_m, bores[1].c_m]).input()?)
         }
         None => None,
     };
@@ -127,9 +131,9 @@ pub fn run_cli(args: &OrbitsArgs, fmu_dir: PathBuf) -> Result<(), String> {
         fmu_dir,
         out_dir: args.out.clone(),
     };
-    let report = find_orbits(&req, &mut |line| eprintln!("{line}"))?;
+    let report = find_orbits(&req, &mut |line| eprintln!("{line}")).run()?;
     super::figure::write_bifurcation_diagram(&report, runup.as_ref(), &args.out)
-        .map_err(|e| format!("{}: {e}", args.out.display()))?;
+        .map_err(|e| Error::Output(format!("{}: {e}", args.out.display())))?;
     remove_stale(&earlier);
     if let Some(t) = report.linear_threshold_hz {
         println!("linear threshold: {t:.1} Hz");

@@ -15,7 +15,7 @@ use super::continuation::ParamFlow;
 use super::shooting::Flow;
 use crate::runup::RunupSettings;
 use cosim::algorithm::{AlgorithmState, CoSim};
-use fmi2::model::{Model, Store};
+use fmi_core::model::{Model, Store};
 use fmu_airfilm::shell::AirFilmFmu;
 use fmu_rotor::rotor::LATERAL_COORDS;
 use fmu_rotor::shell::RotorFmu;
@@ -295,7 +295,7 @@ impl RotorFilmFlow {
 
     fn decode_lateral(&self, blob: &[u8]) -> Result<Vec<f64>, String> {
         let core =
-            fmi2::snapshot::deserialize::<RotorFmu>(blob, &self.rotor_guid, &self.rotor_shape)?;
+            fmi_core::snapshot::deserialize::<RotorFmu>(blob, &self.rotor_guid, &self.rotor_shape)?;
         let m = core
             .model
             .as_ref()
@@ -373,8 +373,11 @@ impl RotorFilmFlow {
     }
 
     fn decode_film(&self, b: usize, blob: &[u8]) -> Result<AirFilmFmu, String> {
-        let core =
-            fmi2::snapshot::deserialize::<AirFilmFmu>(blob, &self.film_guids[b], &self.film_shape)?;
+        let core = fmi_core::snapshot::deserialize::<AirFilmFmu>(
+            blob,
+            &self.film_guids[b],
+            &self.film_shape,
+        )?;
         core.model
             .ok_or_else(|| "a film's FMU state holds no model".to_string())
     }
@@ -389,7 +392,7 @@ impl RotorFilmFlow {
         if let Some(p) = pressures {
             for b in 0..2 {
                 let blob = &blobs[self.films[b]];
-                let mut core = fmi2::snapshot::deserialize::<AirFilmFmu>(
+                let mut core = fmi_core::snapshot::deserialize::<AirFilmFmu>(
                     blob,
                     &self.film_guids[b],
                     &self.film_shape,
@@ -400,10 +403,10 @@ impl RotorFilmFlow {
                     .ok_or("a film's FMU state holds no model")?;
                 model.restart_with_pressures(p[b])?;
                 model.write_outputs(&mut core.store);
-                blobs[self.films[b]] = fmi2::snapshot::serialize(&core, &self.film_guids[b]);
+                blobs[self.films[b]] = fmi_core::snapshot::serialize(&core, &self.film_guids[b]);
             }
         }
-        let mut core = fmi2::snapshot::deserialize::<RotorFmu>(
+        let mut core = fmi_core::snapshot::deserialize::<RotorFmu>(
             &blobs[self.rotor],
             &self.rotor_guid,
             &self.rotor_shape,
@@ -417,7 +420,7 @@ impl RotorFilmFlow {
             .restart_constant_speed(&lateral, self.speed_hz)
             .map_err(|e| e.to_string())?;
         model.write_outputs(&mut core.store);
-        blobs[self.rotor] = fmi2::snapshot::serialize(&core, &self.rotor_guid);
+        blobs[self.rotor] = fmi_core::snapshot::serialize(&core, &self.rotor_guid);
         self.cosim
             .restore_checkpoint(state, &blobs)
             .map_err(|e| e.to_string())?;

@@ -2,6 +2,7 @@
 //! the figures (Campbell, damping, journal locus, eccentricity).
 
 use super::{analyse_with_equilibria, parse_speeds, StabilityReport};
+use crate::error::{Classify, Error};
 use crate::plot::Figure;
 use crate::runup::RunupSettings;
 use std::path::PathBuf;
@@ -218,24 +219,24 @@ fn print_table(s: &RunupSettings, r: &StabilityReport) {
 }
 
 /// Runs the command; returns the report as JSON.
-pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
-    let s = settings(a)?;
-    let speeds = parse_speeds(&a.speeds)?;
+pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, Error> {
+    let s = settings(a).flag()?;
+    let speeds = parse_speeds(&a.speeds).flag()?;
     let mut rotor_json = serde_json::Value::Null;
     let from_file = match (&a.rotor, &s.shaft) {
         (Some(_), Some(_)) => {
-            return Err(
+            return Err(Error::Flag(
                 "--rotor and the design's [shaft] both give a flexible rotor: keep one".into(),
-            )
+            ))
         }
         (Some(file), None) => {
             let &[c, t] = a.bearing_nodes.as_slice() else {
-                return Err(format!(
+                return Err(Error::Flag(format!(
                     "--bearing-nodes takes two nodes, bearing C's and T's (\"C,T\"); {} given",
                     a.bearing_nodes.len()
-                ));
+                )));
             };
-            let (model, notes) = crate::flexible::read_rotor(file)?;
+            let (model, notes) = crate::flexible::read_rotor(file).input()?;
             Some((file.display().to_string(), model, [c, t], notes))
         }
         (None, Some(spec)) => Some((
@@ -267,11 +268,11 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
                 }
             }
             if a.unbalance_c.is_some() || a.unbalance_t.is_some() {
-                return Err(
+                return Err(Error::Flag(
                     "--unbalance-c and --unbalance-t are the paper rotor's wheels; a flexible \
                      rotor's imbalance is --unbalance G_MM --unbalance-node N"
                         .into(),
-                );
+                ));
             }
             println!(
                 "flexible rotor {}: {} shaft elements, {:.4} kg, bearings C at node {}, T at node {}",
@@ -304,51 +305,53 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
                 })
                 .collect();
             drawing = Some(drawn);
-            let (r, solved, rotor) = super::analyse_flexible(&s, model, nodes, &speeds)?;
+            let (r, solved, rotor) = super::analyse_flexible(&s, model, nodes, &speeds).run()?;
             flexible = Some(rotor);
             (r, solved)
         }
-        None => analyse_with_equilibria(&s, &speeds)?,
+        None => analyse_with_equilibria(&s, &speeds).run()?,
     };
     print_table(&s, &r);
     let unbalance = if let Some(g_mm) = a.unbalance {
         let Some(rotor) = &flexible else {
-            return Err(
+            return Err(Error::Flag(
                 "--unbalance and --unbalance-node are a flexible rotor's (--rotor or a \
                         design's [shaft]); the paper rotor's wheels take --unbalance-c and \
                         --unbalance-t"
                     .into(),
-            );
+            ));
         };
         let node = a.unbalance_node.unwrap_or(0);
         if node >= rotor.model.n_nodes() {
-            return Err(format!(
+            return Err(Error::Flag(format!(
                 "--unbalance-node {node} is off the shaft (nodes 0 to {})",
                 rotor.model.n_nodes() - 1
-            ));
+            )));
         }
         if !(g_mm.is_finite() && g_mm > 0.0 && a.unbalance_phase.is_finite()) {
-            return Err(format!(
+            return Err(Error::Flag(format!(
                 "--unbalance {} g mm must be a finite number > 0 (and --unbalance-phase finite)",
                 crate::runup::fmt_number(g_mm)
-            ));
+            )));
         }
         let u = super::unbalance::flexible_unbalance_report(
             rotor,
             (node, g_mm, a.unbalance_phase),
             &r.speeds,
             &solved,
-        )?;
+        )
+        .run()?;
         print_unbalance(&u);
         Some(u)
     } else if a.unbalance_c.is_some() || a.unbalance_t.is_some() {
-        let (rotor, _) = super::params_of(&s)?;
+        let (rotor, _) = super::params_of(&s).flag()?;
         let u = super::unbalance::unbalance_report(
             &rotor,
             [s.imbalance_c, s.imbalance_t],
             &r.speeds,
             &solved,
-        )?;
+        )
+        .run()?;
         print_unbalance(&u);
         Some(u)
     } else {
@@ -367,20 +370,22 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, String> {
         "unbalance": unbalance,
     });
     if let Some(dir) = &a.out {
-        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        std::fs::create_dir_all(dir)
+            .map_err(|e| Error::Output(format!("{}: {e}", dir.display())))?;
         let path = dir.join("stability.json");
-        crate::output::write_whole(&path, serde_json::to_string_pretty(&v).unwrap().as_bytes())?;
+        crate::output::write_whole(&path, serde_json::to_string_pretty(&v).unwrap().as_bytes())
+            .output()?;
         // Both films share the bore unless --set gives film_T another one: draw bearing C's.
-        let lobes = super::params_of(&s)?.1[0].bore.clone();
-        let mut figs = super::figures::save(&r, &lobes, dir).map_err(|e| e.to_string())?;
+        let lobes = super::params_of(&s).flag()?.1[0].bore.clone();
+        let mut figs = super::figures::save(&r, &lobes, dir).output()?;
         if let Some(u) = &unbalance {
-            figs.extend(super::figures::save_unbalance(u, dir).map_err(|e| e.to_string())?);
+            figs.extend(super::figures::save_unbalance(u, dir).output()?);
         }
         if let Some(model) = &drawing {
             figs.extend(
                 crate::flexible::rotor_drawing(model)
                     .save(dir, "rotor")
-                    .map_err(|e| format!("figures not written: {e}"))?,
+                    .map_err(|e| Error::Output(format!("figures not written: {e}")))?,
             );
         }
         println!("wrote {} and {} figure files", path.display(), figs.len());

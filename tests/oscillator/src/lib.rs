@@ -7,7 +7,8 @@
 //! `fault_time` seconds (a model that needs smaller communication steps: tests the master's retry). This is how the layer's panic containment and discard
 //! handling are tested through the real C ABI.
 
-use fmi2::{DefaultExperiment, Log, Model, ModelInfo, StepInputs, StepOutcome, Store, Variable};
+use fmi_core::model::{Log, Model, StepInputs, StepOutcome, Store};
+use fmi_core::variables::{DefaultExperiment, ModelInfo, Variable};
 use serde::{Deserialize, Serialize};
 
 pub mod vr {

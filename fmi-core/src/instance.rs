@@ -1,20 +1,23 @@
-//! One FMU instance: the FMI 2.0 co-simulation call-state machine around a `Model`.
+//! One FMU instance: the co-simulation call-state machine around a `Model`, for both standards.
 //!
-//! Every method here is safe Rust on slices; `ffi.rs` turns C pointers into them. A call in the wrong
-//! state, or with bad arguments, is rejected with fmi2Error and a logged reason and leaves the instance
-//! as it was (as the Reference FMUs do); a model failure in a step moves it to `Phase::Error`.
+//! Every method here is safe Rust on slices; each standard's glue (`fmi2::ffi`, `fmi3::ffi`) turns
+//! C pointers into them (FMI 3.0 adds its own call-state masks around these calls). A call in the
+//! wrong state, or with bad arguments, is rejected with Error and a logged reason and leaves the
+//! instance as it was (as the Reference FMUs do); a model failure in a step moves it to
+//! `Phase::Error`. The phases are those of FMI 2.0's co-simulation (FMI 2.0.4, section 4.2.4),
+//! which FMI 3.0's co-simulation states refine.
 
 use crate::logging::Logger;
 use crate::model::{
     AskedInputs, Inputs, IntermediateInputs, Log, Model, StepInputs, StepOutcome, Store,
     MAX_INPUT_DERIVATIVE_ORDER,
 };
-use crate::types::{Fmi2CallbackFunctions, Status};
 use crate::variables::{Causality, ModelInfo, VarIndex, VarType, Variable};
+use crate::Status;
 use std::path::PathBuf;
 
 /// Marks a live instance; checked on every call so a null or foreign pointer is refused.
-pub(crate) const INSTANCE_MAGIC: u64 = 0x4149_5252_494e_4731; // "AIRRING1"
+pub const INSTANCE_MAGIC: u64 = 0x4149_5252_494e_4731; // "AIRRING1"
 
 /// States of the FMI 2.0 co-simulation state machine (FMI 2.0.4, section 4.2.4).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -127,7 +130,7 @@ impl<M: Model> Clone for Core<M> {
 }
 
 pub struct Instance<M: Model> {
-    pub(crate) magic: u64,
+    pub magic: u64,
     pub info: ModelInfo,
     index: VarIndex,
     pub guid: String,
@@ -177,21 +180,16 @@ fn err<T>(msg: impl Into<String>) -> Result<T, (Status, String)> {
 }
 
 impl<M: Model> Instance<M> {
-    /// fmi2Instantiate after the C strings have been read. Returns the reason on refusal.
+    /// fmi2Instantiate / fmi3InstantiateCoSimulation after the C strings have been read, with
+    /// the logger the glue made (of the model's categories, [`ModelInfo::all_log_categories`])
+    /// and the resource folder it read (or why it could not). Returns the reason on refusal.
     pub fn new(
         instance_name: &str,
         guid: &str,
-        resource_location: Option<&str>,
-        callbacks: Option<Fmi2CallbackFunctions>,
-        logging_on: bool,
+        resources: Result<Option<PathBuf>, String>,
+        logger: Logger,
     ) -> Result<Self, (Logger, String)> {
         let info = M::info();
-        let logger = Logger::new(
-            callbacks,
-            instance_name,
-            logging_on,
-            &info.all_log_categories(),
-        );
         if instance_name.is_empty() {
             return Err((logger, "instanceName must not be empty".into()));
         }
@@ -208,20 +206,17 @@ impl<M: Model> Instance<M> {
                 format!("the model's variable table is inconsistent: {e}"),
             ));
         }
-        let resource_dir = match resource_location {
-            None | Some("") => None,
-            Some(uri) => match crate::resource::uri_to_path(uri) {
-                Ok(p) => Some(p),
-                Err(e) => {
-                    logger.log(
-                        Status::Warning,
-                        "logStatusWarning",
-                        &format!("fmi2Instantiate: {e}; resources unavailable"),
-                    );
-                    None
-                }
-            },
-        };
+        let resource_dir = resources.unwrap_or_else(|e| {
+            logger.log(
+                Status::Warning,
+                "logStatusWarning",
+                &format!(
+                    "{}: {e}; resources unavailable",
+                    logger.standard().instantiate()
+                ),
+            );
+            None
+        });
         let store = Store::from_info(&info);
         let n_real = store.reals.len();
         let de = info.default_experiment;
@@ -430,10 +425,11 @@ impl<M: Model> Instance<M> {
         // After a failed initialization there is no model: the store holds start values and
         // zeros (h_min = 0 m, p_max = 0 Pa), which a master that ignores statuses would plot.
         if self.core.phase == Phase::Error && self.core.model.is_none() {
-            return err(
+            return err(format!(
                 "no values to read: the model could not be initialized (see the error logged \
-                 then); fmi2Reset starts again",
-            );
+                 then); {} starts again",
+                self.logger.standard().reset()
+            ));
         }
         if self.core.phase == Phase::InitializationMode {
             self.ensure_model()?;
@@ -670,8 +666,9 @@ impl<M: Model> Instance<M> {
         if let Some(stop) = self.core.stop_time {
             if t + h > stop + slack {
                 return err(format!(
-                    "step to {} s passes the stopTime {stop} s given in fmi2SetupExperiment",
-                    t + h
+                    "step to {} s passes the stopTime {stop} s given in {}",
+                    t + h,
+                    self.logger.standard().setup_experiment()
                 ));
             }
         }

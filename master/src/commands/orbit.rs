@@ -1,0 +1,11 @@
+//! `airring orbit`: the air-film library along a CSV orbit (flags and run in `master::orbit`).
+
+use master::error::Error;
+use std::process::ExitCode;
+
+pub type Args = master::orbit::OrbitArgs;
+
+pub fn execute(a: Args) -> Result<ExitCode, Error> {
+    master::orbit::run_cli(&a)?;
+    Ok(ExitCode::SUCCESS)
+}
