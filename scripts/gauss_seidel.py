@@ -2,7 +2,7 @@
 """A Gauss-Seidel co-simulation master on FMPy's low-level FMU2Slave, with the same algorithm as `airring`.
 
 It reads an airring system file (e.g. the `system.toml` that `airring runup` writes into its run folder)
-and reproduces master/src/cosim/{setup,gauss_seidel,polynomial}.rs and master/src/run.rs step for step:
+and reproduces master/src/cosim/{setup,gauss_seidel,polynomial}.rs and master/src/run/mod.rs step for step:
 
 * set-up: every [[fmu]] is extracted and instantiated under its instance name, setupExperiment(0, stop),
   enterInitializationMode, parameters set in name order (a "number unit" string is converted to SI

@@ -7,7 +7,7 @@
 //! checks all inputs before anything runs, so every error but [`Error::Run`] and
 //! [`Error::Output`] leaves nothing behind.
 
-use crate::out_folder::FolderError;
+use crate::run::folder::FolderError;
 
 #[derive(Debug, thiserror::Error)]
 pub enum Error {

@@ -123,7 +123,7 @@ mod tests {
     //! flag, input file or folder from a failed run without reading the text.
     use super::*;
     use master::error::Error;
-    use master::out_folder::FolderError;
+    use master::run::folder::FolderError;
 
     fn execute(args: &[&str]) -> Result<ExitCode, Error> {
         let cli = Cli::try_parse_from(std::iter::once("airring").chain(args.iter().copied()))

@@ -1,6 +1,6 @@
 """FMPy's own master (`fmpy.simulate_fmu`) drives airfilm.fmu alone along a prescribed journal orbit
 from a CSV file; `airring orbit` drives the air-film library (no FMI) along the same file with the
-input treatment of FMPy 0.3.32's simulateCS (see master/src/orbit.rs).
+input treatment of FMPy 0.3.32's simulateCS (see master/src/film_orbit.rs).
 
 Both run the same floating-point operations (the same linear interpolation of the table at the same
 communication points, the same film code), so the forces agree to the last bit: the measured

@@ -34,7 +34,7 @@ fn classify(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, Error> {
             // Where the run's films name their clearances, the film eccentricities are measured
             // against those: another clearance would classify the amplitudes against one value
             // and the eccentricities against another.
-            if let Some(bores) = master::run_folder::bores_of_run(dir).input()? {
+            if let Some(bores) = master::run::read_back::bores_of_run(dir).input()? {
                 if bores.iter().any(|b| (b.c_m * 1e6 - c).abs() > 1e-9 * c) {
                     return Err(Error::Flag(format!(
                         "--clearance = {} um: the run's films ran with C = {} um and {} um \
@@ -48,7 +48,7 @@ fn classify(dir: &Path, clearance_um: Option<f64>) -> Result<ExitCode, Error> {
             }
             [c / 1e6; 2]
         }
-        None => match master::run_folder::bores_of_run(dir).input()? {
+        None => match master::run::read_back::bores_of_run(dir).input()? {
             Some([c, t]) => [c.c_m, t.c_m],
             None => {
                 return Err(Error::Input(format!(

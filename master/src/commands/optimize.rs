@@ -55,7 +55,7 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let out = a
         .out
         .unwrap_or_else(|| PathBuf::from("runs").join(format!("optimize-{}", problem.name)));
-    master::out_folder::check_sweep_out(&out)?;
+    master::run::folder::check_sweep_out(&out)?;
     let opts = master::optimize::OptimizeOptions {
         out: out.clone(),
         jobs: a.jobs.unwrap_or_else(master::sweep::default_jobs),

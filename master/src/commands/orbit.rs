@@ -1,11 +1,11 @@
-//! `airring orbit`: the air-film library along a CSV orbit (flags and run in `master::orbit`).
+//! `airring orbit`: the air-film library along a CSV orbit (flags and run in `master::film_orbit`).
 
 use master::error::Error;
 use std::process::ExitCode;
 
-pub type Args = master::orbit::OrbitArgs;
+pub type Args = master::film_orbit::OrbitArgs;
 
 pub fn execute(a: Args) -> Result<ExitCode, Error> {
-    master::orbit::run_cli(&a)?;
+    master::film_orbit::run_cli(&a)?;
     Ok(ExitCode::SUCCESS)
 }

@@ -32,7 +32,7 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
             dir.display()
         )));
     }
-    master::out_folder::check_not_in_progress(&dir)?;
+    master::run::folder::check_not_in_progress(&dir)?;
     let old = master::summary::RunSummary::read(&dir).unwrap_or_default();
     if old.status == master::summary::RunStatus::Completed {
         return Err(Error::Input(format!(

@@ -45,7 +45,7 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let out = common.out.clone().unwrap_or_else(|| {
         default_out(system.file_stem().and_then(|s| s.to_str()).unwrap_or("run"))
     });
-    master::out_folder::check_new_run(&out, common.overwrite)?;
+    master::run::folder::check_new_run(&out, common.overwrite)?;
     let opts = RunOptions {
         out_dir: out.clone(),
         checkpoint_every_s: common.checkpoint_every,
@@ -67,7 +67,7 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
 /// `film_T`: where it has them, the analysis takes their own bores (as `classify` does), and a
 /// flag that differs would put one clearance in the summary and another in the films.
 fn check_no_films_named(system: &Path) -> Result<(), Error> {
-    match master::run_folder::bores_of_system(system).input()? {
+    match master::run::read_back::bores_of_system(system).input()? {
         Some([c, t]) => Err(Error::Flag(format!(
             "--clearance / --dh: the system's films film_C and film_T name their own bores \
              (C = {} um and {} um, dH = {} um and {} um), which the run's analysis takes; \

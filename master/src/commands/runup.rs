@@ -8,7 +8,7 @@ use std::process::ExitCode;
 #[derive(clap::Args)]
 pub struct Args {
     #[command(flatten)]
-    pub args: Box<master::runup_cli::RunupArgs>,
+    pub args: Box<master::runup::flags::RunupArgs>,
     #[command(flatten)]
     pub common: Common,
 }
@@ -16,12 +16,12 @@ pub struct Args {
 pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let Args { args, common } = a;
     // The flags and the design file they name: a design file names itself in its messages.
-    let mut s = master::runup_cli::settings(&args).flag()?;
+    let mut s = master::runup::flags::settings(&args).flag()?;
     s.validate_runup().flag()?;
     // Every flag and the output folder checked before the calm plan's analysis runs.
     check_checkpoint_every(common.checkpoint_every)?;
     let out = common.out.clone().unwrap_or_else(|| default_out(&s.preset));
-    master::out_folder::check_new_run(&out, common.overwrite)?;
+    master::run::folder::check_new_run(&out, common.overwrite)?;
     // The FMUs are found before the calm plan's analysis runs (a wrong --fmu-dir was
     // reported only after it).
     let dir = fmu_dir(args.fmu_dir.clone())?;
@@ -45,7 +45,7 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
         ))
     })?;
     // The system file goes into the run folder only once the run has started.
-    let staged = master::out_folder::StagedSystem::new(&s.system_toml(dir_text)).output()?;
+    let staged = master::run::folder::StagedSystem::new(&s.system_toml(dir_text)).output()?;
     eprintln!(
         "run-up '{}': {}, {}; {}; macro step {} us -> {}",
         s.preset,

@@ -106,13 +106,13 @@ fn linear_sweep_command(
     let study = master::sweep::Study::load(study_path).input()?;
     let speeds = master::stability::parse_speeds(speeds).flag()?;
     let mesh = match mesh {
-        None => master::sweep_linear::DEFAULT_MESH,
+        None => master::sweep::linear::DEFAULT_MESH,
         Some(m) => master::runup::parse_mesh(m, "--linear-mesh").flag()?,
     };
     let out = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name)));
-    master::out_folder::check_sweep_out(&out)?;
+    master::run::folder::check_sweep_out(&out)?;
     let (preds, maps) =
-        master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet, None).run()?;
+        master::sweep::linear::predict(&study, &speeds, mesh, &out, quiet, None).run()?;
     eprintln!(
         "linear prediction: {} points -> {}, {}",
         preds.len(),
@@ -158,20 +158,20 @@ fn sweep_command(study_path: &Path, f: SweepFlags) -> Result<ExitCode, Error> {
     }
     let jobs = jobs.unwrap_or_else(sweep::default_jobs);
     let out = out.unwrap_or_else(|| PathBuf::from("runs").join(format!("sweep-{}", study.name)));
-    master::out_folder::check_sweep_out(&out)?;
+    master::run::folder::check_sweep_out(&out)?;
     if let Some((speeds, mesh)) = predict {
         let speeds = master::stability::parse_speeds(speeds).flag()?;
         let mesh = match mesh {
-            None => master::sweep_linear::DEFAULT_MESH,
+            None => master::sweep::linear::DEFAULT_MESH,
             Some(m) => master::runup::parse_mesh(m, "--linear-mesh").flag()?,
         };
         let cache = master::linear_cache::LinearCache::open(&sweep::linear_cache_dir(&out))
             .map_err(|e| eprintln!("warning: the prediction's analyses are not kept: {e}"))
             .ok();
         let (preds, _) =
-            master::sweep_linear::predict(&study, &speeds, mesh, &out, quiet, cache.as_ref())
+            master::sweep::linear::predict(&study, &speeds, mesh, &out, quiet, cache.as_ref())
                 .run()?;
-        master::sweep_linear::longest_first(&mut study, &preds);
+        master::sweep::linear::longest_first(&mut study, &preds);
     }
     let opts = sweep::SweepOptions {
         out,

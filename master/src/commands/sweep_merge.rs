@@ -17,7 +17,7 @@ pub struct Args {
 pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let Args { dirs, out } = a;
     let out = out.unwrap_or_else(|| dirs[0].clone());
-    master::out_folder::check_sweep_out(&out)?;
+    master::run::folder::check_sweep_out(&out)?;
     let (table, maps, n) = master::sweep::merge(&dirs, &out).input()?;
     eprintln!("{n} runs -> {}, {}", table.display(), maps[0].display());
     Ok(ExitCode::SUCCESS)

@@ -41,7 +41,7 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
         fmu_dir: dir,
     } = a;
     let study = master::sweep::Study::load(&study).input()?;
-    master::out_folder::check_sweep_out(&out)?;
+    master::run::folder::check_sweep_out(&out)?;
     let opts = master::orbits::study::SweepOrbitsOptions {
         out,
         settle_s: settle,

@@ -148,7 +148,7 @@ pub fn linear_stage(p: &Problem, args: &BTreeMap<String, String>) -> LinearResul
         format!("{}x{}", p.linear_mesh.0, p.linear_mesh.1),
     );
     let grid = linear_grid(p);
-    let result = crate::sweep_linear::settings_for(&args).and_then(|s| {
+    let result = crate::sweep::linear::settings_for(&args).and_then(|s| {
         let r = crate::stability::analyse(&s, &grid)?;
         Ok(r)
     });

@@ -71,7 +71,7 @@ pub fn optimize(p: &Problem, text: &str, opts: &OptimizeOptions) -> Result<Outco
     std::fs::create_dir_all(&opts.out).map_err(|e| format!("{}: {e}", opts.out.display()))?;
     refuse_other_problem(&opts.out, text)?;
     crate::output::write_whole(&opts.out.join("optimization.toml"), text.as_bytes())?;
-    let base = crate::sweep_linear::settings_for(&p.base).map_err(|e| format!("[base]: {e}"))?;
+    let base = crate::sweep::linear::settings_for(&p.base).map_err(|e| format!("[base]: {e}"))?;
     let base_values = base_values(p, &base);
     let mut candidates = read_evaluations(&opts.out.join(EVALUATIONS), p)?;
     if !opts.quiet {

@@ -206,7 +206,7 @@ pub fn recommended_design(p: &Problem, best: &Candidate) -> Result<String, Strin
         .first()
         .ok_or("the recommended design has no nominal corner")?
         .args;
-    let s = crate::sweep_linear::settings_for(nominal)?;
+    let s = crate::sweep::linear::settings_for(nominal)?;
     // (table, key) -> value; later entries replace earlier ones, as FMU parameters apply after
     // the run-up's own quantities.
     let mut tables: std::collections::BTreeMap<&str, toml::Table> = Default::default();
@@ -748,8 +748,8 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let file = dir.join("recommended.toml");
         std::fs::write(&file, &text).unwrap();
-        let direct = crate::sweep_linear::settings_for(&c.corners[0].args).unwrap();
-        let via_file = crate::sweep_linear::settings_for(
+        let direct = crate::sweep::linear::settings_for(&c.corners[0].args).unwrap();
+        let via_file = crate::sweep::linear::settings_for(
             &[("design".to_string(), file.display().to_string())].into(),
         )
         .unwrap();

@@ -44,7 +44,7 @@ fn check_out(
     dir: &std::path::Path,
     overwrite: bool,
 ) -> Result<Vec<(PathBuf, std::time::SystemTime)>, String> {
-    use crate::out_folder::{holds_run, holds_sweep};
+    use crate::run::folder::{holds_run, holds_sweep};
     if dir.exists() && !dir.is_dir() {
         return Err(format!(
             "--out {}: exists and is not a folder",
@@ -110,7 +110,7 @@ pub fn run_cli(args: &OrbitsArgs, fmu_dir: PathBuf) -> Result<(), Error> {
     // Read before hours of shooting, so that a wrong folder is refused at once.
     let runup = match &args.runup {
         Some(dir) => {
-            let bores = crate::run_folder::bores_of_run(dir)
+            let bores = crate::run::read_back::bores_of_run(dir)
                 .input()?
                 .ok_or_else(|| {
                     Error::Input(format!(

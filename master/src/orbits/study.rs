@@ -309,7 +309,7 @@ pub fn sweep_orbits(
                 }
             }
         }
-        let mut s = crate::sweep_linear::settings_for(&spec.args)
+        let mut s = crate::sweep::linear::settings_for(&spec.args)
             .map_err(|e| format!("run {}: {e}", spec.name))?;
         s.serial_films = opts.jobs > 1;
         super::cosim_flow::check_autonomous(&s).map_err(|e| format!("run {}: {e}", spec.name))?;

@@ -6,6 +6,7 @@ use toml::Value;
 
 mod defaults;
 mod design_args;
+pub mod flags;
 mod parse;
 pub use defaults::*;
 pub use design_args::DesignArgs;

@@ -24,6 +24,7 @@
 //! `table` (the run folders read back, study.csv, merging), `map` (the bifurcation maps); this
 //! file runs the run-ups.
 
+pub mod linear;
 mod map;
 mod report_page;
 pub mod sensitivity;

@@ -62,7 +62,7 @@ pub fn sensitivity(dir: &Path, delta: f64) -> Result<(Vec<RunSensitivity>, Vec<S
     let vs = variants(delta);
     let mut out = Vec::with_capacity(runs.len());
     for r in runs {
-        let Some(bores) = crate::run_folder::bores_of_run(&r.dir)? else {
+        let Some(bores) = crate::run::read_back::bores_of_run(&r.dir)? else {
             left_out.push(format!(
                 "{}: its system.toml has no air films film_C and film_T to read the bores from",
                 r.name

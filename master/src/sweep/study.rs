@@ -396,7 +396,7 @@ impl Study {
         // Every point through the run-up's own flag parser and checks, so that `--list` (and
         // the sweep, before it starts anything) refuses what the run-up would refuse.
         for r in &runs {
-            crate::runup_cli::check_argv(&runup_args(&r.args))
+            crate::runup::flags::check_argv(&runup_args(&r.args))
                 .map_err(|e| err(format!("run '{}' ({}): {e}", r.name, grid_list(&r.grids))))?;
         }
         Ok(Study { name, runs })

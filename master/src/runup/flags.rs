@@ -520,7 +520,7 @@ mod tests {
     /// flags (it once held a second bore, which only `--contact film` takes).
     #[test]
     fn the_design_example_in_the_docs_runs_with_the_default_flags() {
-        let doc = include_str!("../../docs/design.md");
+        let doc = include_str!("../../../docs/design.md");
         let start = doc
             .find("```toml\n")
             .expect("a TOML block in docs/design.md")

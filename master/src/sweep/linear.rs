@@ -428,7 +428,7 @@ mod tests {
             args: args.clone(),
             grids: vec![],
         };
-        let runup = crate::runup_cli::check_argv(&crate::sweep::runup_args(&args)).unwrap();
+        let runup = crate::runup::flags::check_argv(&crate::sweep::runup_args(&args)).unwrap();
         let dir = std::env::temp_dir().join(format!("airring-calm-cache-{}", std::process::id()));
         let _ = std::fs::remove_dir_all(&dir);
         let cache = crate::linear_cache::LinearCache::open_for_build(&dir, "test").unwrap();

@@ -1,6 +1,11 @@
 //! A run of `airring`: the generic run loop of the `cosim` library with this application's
 //! observers attached (the CSV file, the progress line, the in-memory series for Parquet and the
 //! run-up analysis), and `summary.json` with the run-up's classification and plots at the end.
+//! [`folder`]: who may write into a run folder; [`read_back`]: what a run folder's system file
+//! says of its bearings.
+
+pub mod folder;
+pub mod read_back;
 
 use crate::analysis::{classify, RunSeries};
 use crate::plot::plot_runup;
@@ -211,7 +216,7 @@ pub static RUN_LOOP_ENDED: std::sync::atomic::AtomicBool =
 /// the classification and plots) however the run ended.
 pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunReport, String> {
     // Held until the summary is written (dropped on return).
-    let _lock = crate::out_folder::RunLock::acquire(&opts.out_dir)?;
+    let _lock = crate::run::folder::RunLock::acquire(&opts.out_dir)?;
     let cfg = RunConfig {
         out_dir: opts.out_dir.clone(),
         checkpoint_every_s: opts.checkpoint_every_s,
@@ -219,7 +224,7 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
         halt_at_s: opts.halt_at_s,
     };
     let csv_path = opts.out_dir.join("timeseries.csv");
-    let mut guard = crate::out_folder::StartGuard {
+    let mut guard = crate::run::folder::StartGuard {
         dir: opts.out_dir.clone(),
         settings: opts.extra.clone(),
         memory_limit_bytes: None,
@@ -331,7 +336,7 @@ fn write_summary(
     let mut summary = RunSummary::of_report(report, opts.extra.clone());
     let bores = match &opts.bores {
         Some(b) => Some(b.clone()),
-        None => crate::run_folder::bores_of_run(&opts.out_dir)?,
+        None => crate::run::read_back::bores_of_run(&opts.out_dir)?,
     };
     if let (Some(bores), true) = (&bores, !rows.is_empty()) {
         if let Some(series) = runup_series(recorded, rows, [bores[0].c_m, bores[1].c_m]) {
