@@ -215,6 +215,8 @@ struct Execution<'a> {
 /// How the loop ended without an error.
 enum End {
     Completed,
+    /// An observer asked to end the run here (its reason).
+    Halted(String),
     Interrupted,
 }
 
@@ -307,6 +309,10 @@ impl<'a> Execution<'a> {
         let mut report = RunReport::default();
         match self.run_loop(resumed_from, observers, start) {
             Ok(End::Completed) => report.completed = true,
+            Ok(End::Halted(reason)) => {
+                report.completed = true;
+                report.halted = Some(reason);
+            }
             Ok(End::Interrupted) => report.interrupted = true,
             Err(e) => report.error = Some(e),
         }
@@ -394,6 +400,9 @@ impl<'a> Execution<'a> {
             }
             if self.step_index >= n_steps {
                 return Ok(End::Completed);
+            }
+            if let Some(reason) = observers.iter().find_map(|o| o.halt()) {
+                return Ok(End::Halted(reason));
             }
             let halt = cfg.halt_at_s.is_some_and(|th| t >= th - 1e-9 * h);
             let checkpoint_due = next_checkpoint.is_some_and(|tc| t >= tc - 1e-9 * h);

@@ -46,6 +46,14 @@ pub trait Observer {
     /// At every macro point, after its samples: the co-simulation as it stands.
     fn macro_point(&mut self, _cosim: &CoSim, _stop_time_s: f64) {}
 
+    /// Whether the run has shown what it was run for (a limit it was to watch is crossed):
+    /// `Some(reason)` ends it at this macro point, before its stop time, as completed and
+    /// halted (`RunReport::halted`). Asked at every macro point after its samples. A halted run
+    /// writes no checkpoint: it is finished, not interrupted.
+    fn halt(&self) -> Option<String> {
+        None
+    }
+
     /// Something the algorithm did (a roll-back, ...).
     fn event(&mut self, _event: &Event) {}
 

@@ -6,6 +6,10 @@ use crate::step_control::ControlStats;
 #[derive(Debug, Default, serde::Serialize)]
 pub struct RunReport {
     pub completed: bool,
+    /// Set when an observer ended the run before its stop time ([`crate::Observer::halt`]):
+    /// its reason. Such a run is completed: it ran until it had shown what it was run for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub halted: Option<String>,
     pub interrupted: bool,
     pub error: Option<String>,
     pub t_end_s: f64,

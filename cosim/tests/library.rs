@@ -154,6 +154,83 @@ fn a_failing_observer_fails_the_run_with_its_message() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// An observer that has seen enough once `a.x` falls below a level.
+struct HaltsBelow(f64, Option<String>);
+
+impl Observer for HaltsBelow {
+    fn sample(&mut self, t_s: f64, values: &[f64]) -> Result<(), ObserverError> {
+        if self.1.is_none() && values[0] < self.0 {
+            self.1 = Some(format!("a.x = {} below {} at {t_s} s", values[0], self.0));
+        }
+        Ok(())
+    }
+    fn halt(&self) -> Option<String> {
+        self.1.clone()
+    }
+}
+
+/// An observer's halt ends the run at the macro point of the sample that crossed its limit: the
+/// run is completed and halted with the reason, the others hear `finished` there, the series
+/// ends with that sample, and no checkpoint is written (a halted run is not resumed).
+#[test]
+fn an_observer_halts_the_run_where_it_has_seen_enough() {
+    let dir = tmp("halting");
+    let sys = system(&dir);
+    let mut full = Recorder::default();
+    let log = Arc::new(|_: &fmi_core::LogRecord| {});
+    let whole = cosim::run(
+        &sys,
+        &RunConfig::new(&dir),
+        false,
+        log.clone(),
+        &mut [&mut full],
+    );
+    assert!(whole.unwrap().halted.is_none());
+    // The first sample below 0.95 m in the run without a halt.
+    let (t_cross, _) = full
+        .samples
+        .iter()
+        .find(|(_, v)| v[0] < 0.95)
+        .cloned()
+        .expect("a.x falls below 0.95 m");
+    let dir2 = tmp("halting2");
+    let sys = system(&dir2);
+    let mut rec = Recorder::default();
+    let mut csv = CsvObserver::new(dir2.join("series.csv"));
+    let mut cfg = RunConfig::new(&dir2);
+    cfg.checkpoint_every_s = Some(1.0);
+    let report = cosim::run(
+        &sys,
+        &cfg,
+        false,
+        log,
+        &mut [&mut HaltsBelow(0.95, None), &mut csv, &mut rec],
+    )
+    .unwrap();
+    assert!(
+        report.completed && !report.interrupted && report.error.is_none(),
+        "{report:?}"
+    );
+    let why = report.halted.as_deref().unwrap_or("");
+    assert!(
+        why.starts_with("a.x = ") && why.ends_with(&format!("at {t_cross} s")),
+        "{why}"
+    );
+    assert_eq!(report.t_end_s.to_bits(), t_cross.to_bits());
+    assert!(t_cross < 0.1, "before the stop time");
+    assert_eq!(rec.samples.last().unwrap().0.to_bits(), t_cross.to_bits());
+    assert_eq!(rec.samples, full.samples[..rec.samples.len()]);
+    assert!(rec.calls.last().unwrap().ends_with("completed true"));
+    let (_, rows) = timeseries::read(&dir2.join("series.csv")).unwrap();
+    assert_eq!(rows.len(), rec.samples.len());
+    assert!(
+        !dir2.join("checkpoint").exists(),
+        "a halted run leaves no checkpoint"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(&dir2);
+}
+
 #[test]
 fn a_run_that_cannot_start_is_a_typed_error() {
     let dir = tmp("nostart");

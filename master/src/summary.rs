@@ -45,6 +45,10 @@ pub struct ClearancesUm {
 pub struct RunSummary {
     pub status: RunStatus,
     pub interrupted: bool,
+    /// Why a run that was to halt on a limit (`runup --halt-film`) ended before its stop time:
+    /// the limit crossed, where and when. The run is completed; its series ends there.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub halted: Option<String>,
     pub error: Option<String>,
     pub t_end_s: Option<f64>,
     pub macro_steps: Option<u64>,
@@ -115,6 +119,7 @@ impl RunSummary {
                 RunStatus::Failed
             },
             interrupted: report.interrupted,
+            halted: report.halted.clone(),
             error: report.error.clone(),
             t_end_s: Some(report.t_end_s),
             macro_steps: Some(report.macro_steps),

@@ -66,6 +66,7 @@ fn drop_c30(
         extra: serde_json::Value::Null,
         bores: None,
         parquet: false,
+        halt: None,
     };
     let report = run(&sys, &opts, false).unwrap();
     assert!(report.completed, "{name}: {report:?}");

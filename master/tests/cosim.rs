@@ -36,6 +36,7 @@ fn opts(out: &Path) -> RunOptions {
         extra: serde_json::Value::Null,
         bores: None,
         parquet: false,
+        halt: None,
     }
 }
 

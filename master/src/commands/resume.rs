@@ -18,6 +18,19 @@ pub struct Args {
     pub parquet: bool,
 }
 
+/// The film halt of a run-up's settings (`halt_film_um`, `halt_speeds_hz` in summary.json).
+fn halt_of(settings: &serde_json::Value) -> Option<master::run::FilmHalt> {
+    let um = settings.get("halt_film_um")?.as_f64()?;
+    let speeds = settings
+        .get("halt_speeds_hz")
+        .and_then(|v| Some((v.get(0)?.as_f64()?, v.get(1)?.as_f64()?)))
+        .unwrap_or((0.0, f64::INFINITY));
+    Some(master::run::FilmHalt {
+        min_film_m: um * 1e-6,
+        speeds_hz: speeds,
+    })
+}
+
 pub fn execute(a: Args) -> Result<ExitCode, Error> {
     let Args {
         dir,
@@ -59,6 +72,8 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
             dir.display(),
         )));
     }
+    // A run-up that was to halt on its film limit still is.
+    let halt = halt_of(&old.settings);
     let opts = RunOptions {
         out_dir: dir.clone(),
         checkpoint_every_s: checkpoint_every,
@@ -70,6 +85,7 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
         bores: None,
         // A run that wrote Parquet goes on writing it.
         parquet: parquet || dir.join("timeseries.parquet").exists(),
+        halt,
     };
     let report = run(&dir.join("system.toml"), &opts, true).run()?;
     Ok(finish(report, &dir))

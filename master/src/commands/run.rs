@@ -58,6 +58,7 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
             [b.clone(), b]
         }),
         parquet: common.parquet,
+        halt: None,
     };
     let report = new_run(&system, &opts).run()?;
     Ok(finish(report, &out))

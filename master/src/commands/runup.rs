@@ -64,6 +64,7 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
         extra: serde_json::to_value(&s).unwrap_or_default(),
         bores: None,
         parquet: common.parquet,
+        halt: s.film_halt(),
     };
     let report = new_run(&staged.path, &opts).map_err(|e| Error::Run(staged.strip_path(e)))?;
     Ok(finish(report, &out))

@@ -74,6 +74,10 @@ pub struct NonlinearResult {
     /// The largest whirl amplitude within the speed range [um].
     #[serde(deserialize_with = "nan_if_null")]
     pub whirl_um: f64,
+    /// The run-up halted at the film limit (`runup --halt-film`): where. Its film thickness,
+    /// whirl amplitude and class are those up to there.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub halted: Option<String>,
     pub error: Option<String>,
 }
 
@@ -324,6 +328,7 @@ pub fn nonlinear_result(dir: &Path, run: &str, range_hz: (f64, f64)) -> Nonlinea
         Some(s) if s.status == RunStatus::Completed => {
             r.class = s.classification.clone();
             r.onset_hz = s.onset_speed_hz;
+            r.halted = s.halted.clone();
             match run_metrics(dir, range_hz) {
                 Ok((film, whirl)) => {
                     r.min_film_um = film;
@@ -371,6 +376,11 @@ pub fn nonlinear_decision(p: &Problem, n: &NonlinearResult) -> (bool, String) {
                 "{class}, film {:.2} um, whirl {:.2} um (run-up and run-down)",
                 n.min_film_um, n.whirl_um
             ),
+        )
+    } else if n.halted.is_some() {
+        (
+            false,
+            format!("{} (the run-up halted at the film limit)", why.join(", ")),
         )
     } else {
         (false, format!("{} (run-up and run-down)", why.join(", ")))
@@ -592,6 +602,7 @@ mod tests {
             onset_hz: Some(1200.0),
             min_film_um: film,
             whirl_um: whirl,
+            halted: None,
             error: None,
         };
         let good = corner("nominal", linear(Some(1100.0), 5.0), Some(run(3.0, 0.5)));

@@ -501,13 +501,21 @@ impl RunUps<'_> {
         }
     }
 
-    fn profile(&self, t_ramp_s: f64) -> String {
-        format!(
-            "0:0,{t}:{f},{t2}:0",
-            t = t_ramp_s,
-            f = self.f_max_hz,
-            t2 = 2.0 * t_ramp_s
-        )
+    /// The keys every run-up of the search shares: the run-up and run-down, and the halt at
+    /// the film limit within the speed range: a run-up whose film falls below the limit has
+    /// decided its corner (it fails), and the rest of it (the whirl after onset, the run-down)
+    /// is the slow part.
+    fn fixed(&self) -> BTreeMap<String, String> {
+        let t = self.p.t_ramp_s;
+        let (lo, hi) = self.p.speed_range_hz;
+        BTreeMap::from([
+            (
+                "profile".to_string(),
+                format!("0:0,{t}:{f},{t2}:0", f = self.f_max_hz, t2 = 2.0 * t),
+            ),
+            ("halt_film".to_string(), self.p.min_film_um.to_string()),
+            ("halt_speeds".to_string(), format!("{lo}:{hi}")),
+        ])
     }
 
     /// Runs the cases `wanted` (with all earlier ones in the study) and returns each one's
@@ -519,21 +527,21 @@ impl RunUps<'_> {
             }
         }
         let dir = self.opts.out.join("nonlinear");
-        let profile = self.profile(self.p.t_ramp_s);
-        let (study, text) = study_of(&self.p.name, &self.all, &profile, &dir)?;
+        let fixed = self.fixed();
+        let (study, text) = study_of(&self.p.name, &self.all, &fixed, &dir)?;
         if self.opts.external_runs {
             if let Some(n) = write_for_others(&study, &text, &dir)? {
                 self.pending = Some((dir.join("study.toml"), n));
                 return Err(format!("{n} run-ups are left to another runner"));
             }
-            return wanted.iter().map(|w| run_of(&study, w, &profile)).collect();
+            return wanted.iter().map(|w| run_of(&study, w, &fixed)).collect();
         }
         let opts = sweep_options(self.opts, dir);
         let report = sweep::sweep(&study, &text, &opts)?;
         if self.opts.stop.load(Ordering::Relaxed) || !report.interrupted.is_empty() {
             return Err("stopped during the run-ups".into());
         }
-        wanted.iter().map(|w| run_of(&study, w, &profile)).collect()
+        wanted.iter().map(|w| run_of(&study, w, &fixed)).collect()
     }
 }
 
@@ -576,19 +584,18 @@ fn read_pending(path: &Path, p: &Problem) -> Option<Vec<Vec<f64>>> {
     (!xs.is_empty() && xs.iter().all(|x| x.len() == p.dim())).then_some(xs)
 }
 
-/// The study (and its file's text) of run-up cases: every case a run-up and run-down by
-/// `profile`; `dir` names the file in messages.
+/// The study (and its file's text) of run-up cases: every case with the `fixed` keys (its speed
+/// profile, a halt); `dir` names the file in messages.
 pub(crate) fn study_of(
     name: &str,
     cases: &[BTreeMap<String, String>],
-    profile: &str,
+    fixed: &BTreeMap<String, String>,
     dir: &Path,
 ) -> Result<(Study, String), String> {
-    let mut text = format!(
-        "name = {}\n[fixed]\nprofile = {}\n",
-        toml_str(&format!("{name}-runs")),
-        toml_str(profile)
-    );
+    let mut text = format!("name = {}\n[fixed]\n", toml_str(&format!("{name}-runs")));
+    for (k, v) in fixed {
+        text += &format!("{} = {}\n", toml_key(k), toml_str(v));
+    }
     // One grid per set of keys (a study's cases of one grid set the same keys): the
     // verification's runs on the search mesh set none, those on the fine mesh set `mesh`.
     type Group<'a> = (Vec<&'a String>, Vec<&'a BTreeMap<String, String>>);
@@ -629,10 +636,14 @@ fn toml_key(k: &str) -> String {
     }
 }
 
-/// The run of `study` whose flags are `case` with `profile`.
-fn run_of(study: &Study, case: &BTreeMap<String, String>, profile: &str) -> Result<String, String> {
+/// The run of `study` whose flags are `case` with the `fixed` keys.
+fn run_of(
+    study: &Study,
+    case: &BTreeMap<String, String>,
+    fixed: &BTreeMap<String, String>,
+) -> Result<String, String> {
     let mut want = case.clone();
-    want.insert("profile".into(), profile.into());
+    want.extend(fixed.iter().map(|(k, v)| (k.clone(), v.clone())));
     study
         .runs
         .iter()

@@ -43,6 +43,85 @@ pub struct RunOptions {
     pub bores: Option<[Bore; 2]>,
     /// Also write `timeseries.parquet` when the run ends (the CSV is written in any case).
     pub parquet: bool,
+    /// End the run once a film's minimum thickness falls below a limit (`runup --halt-film`).
+    pub halt: Option<FilmHalt>,
+}
+
+/// A run-up that ends once it has crossed its film-thickness limit: the minimum film thickness
+/// of either bearing (`film_C.h_min`, `film_T.h_min`) below `min_film_m` while the rotor speed
+/// lies in `speeds_hz`. Watched by an observer of the run.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FilmHalt {
+    pub min_film_m: f64,
+    pub speeds_hz: (f64, f64),
+}
+
+/// Watches the films' minimum thickness for [`FilmHalt`] and asks the run to halt where it is
+/// crossed (the sample that crosses it is the series' last row).
+struct FilmWatch {
+    rule: FilmHalt,
+    /// Columns of rotor.omega, film_C.h_min, film_T.h_min in a sample's values.
+    cols: [usize; 3],
+    reason: Option<String>,
+}
+
+impl FilmWatch {
+    fn new(rule: FilmHalt) -> Self {
+        FilmWatch {
+            rule,
+            cols: [0; 3],
+            reason: None,
+        }
+    }
+}
+
+impl Observer for FilmWatch {
+    fn started(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
+        let names = ["rotor.omega", "film_C.h_min", "film_T.h_min"];
+        for (k, name) in names.iter().enumerate() {
+            self.cols[k] = run
+                .columns
+                .iter()
+                .position(|r| r.name == *name)
+                .ok_or_else(|| {
+                    ObserverError::Other(format!(
+                        "--halt-film watches {}: the run records no output {name}",
+                        names.join(", ")
+                    ))
+                })?;
+        }
+        Ok(())
+    }
+
+    fn sample(&mut self, t_s: f64, values: &[f64]) -> Result<(), ObserverError> {
+        if self.reason.is_some() {
+            return Ok(());
+        }
+        let f_hz = values[self.cols[0]] / std::f64::consts::TAU;
+        let (lo, hi) = self.rule.speeds_hz;
+        if !(lo..=hi).contains(&f_hz) {
+            return Ok(());
+        }
+        for (bearing, col) in [("C", self.cols[1]), ("T", self.cols[2])] {
+            let h = values[col];
+            // A NaN thickness is no thickness above the limit either.
+            if h < self.rule.min_film_m || h.is_nan() {
+                self.reason = Some(format!(
+                    "film_{bearing}.h_min = {} um < {} um at {} Hz (t = {} s)",
+                    cosim::number::short(h * 1e6),
+                    cosim::number::short(self.rule.min_film_m * 1e6),
+                    cosim::number::short((f_hz * 10.0).round() / 10.0),
+                    cosim::number::short(t_s)
+                ));
+                break;
+            }
+        }
+        Ok(())
+    }
+
+    fn halt(&self) -> Option<String> {
+        self.reason.clone()
+    }
 }
 
 /// Prints FMU messages of status warning or worse (and debug messages when asked) with the
@@ -242,14 +321,14 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
     // The guard comes first: it may refuse the run before anything in the folder changes. The
     // CSV observer comes before `rows`: on resume it cuts the file back to the checkpoint before
     // `rows` reads it.
-    let mut report = cosim::run(
-        system_path,
-        &cfg,
-        resume,
-        stderr_logger(),
-        &mut [&mut guard, &mut csv, &mut rows, &mut progress],
-    )
-    .map_err(|e| e.to_string())?;
+    let mut watch = opts.halt.map(FilmWatch::new);
+    let mut observers: Vec<&mut dyn Observer> =
+        vec![&mut guard, &mut csv, &mut rows, &mut progress];
+    if let Some(w) = watch.as_mut() {
+        observers.push(w);
+    }
+    let mut report = cosim::run(system_path, &cfg, resume, stderr_logger(), &mut observers)
+        .map_err(|e| e.to_string())?;
     RUN_LOOP_ENDED.store(true, std::sync::atomic::Ordering::Relaxed);
     let recorded = &rows.columns;
     // A failed Parquet write is reported like a failed run, but summary.json is still written.
@@ -354,6 +433,10 @@ fn write_summary(
             if !report.completed {
                 summary.classification_note =
                     Some("classified on the part of the run-up that was simulated".into());
+            } else if let Some(why) = &report.halted {
+                summary.classification_note = Some(format!(
+                    "classified on the part of the run-up before it halted ({why})"
+                ));
             }
             summary.clearance_um = Some(ClearancesUm {
                 c: bores[0].c_m * 1e6,

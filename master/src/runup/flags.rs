@@ -87,6 +87,44 @@ pub struct RunupArgs {
     /// sweep passes its own, which its --predict-first fills).
     #[arg(long)]
     pub linear_cache: Option<PathBuf>,
+    /// End the run-up once the minimum film thickness of either bearing falls below this [um]
+    /// (while the speed lies in --halt-speeds): the run is completed there, summary.json says
+    /// where (`halted`). For searches that only need to know that a design fails.
+    #[arg(long)]
+    pub halt_film: Option<f64>,
+    /// The speed range "LO:HI" [Hz] in which --halt-film watches the films [default: all
+    /// speeds]
+    #[arg(long, requires = "halt_film")]
+    pub halt_speeds: Option<String>,
+}
+
+/// `--halt-film` [um] and `--halt-speeds` [Hz].
+type FilmHaltFlags = (Option<f64>, Option<(f64, f64)>);
+
+/// `--halt-film` and `--halt-speeds`, checked.
+fn film_halt(a: &RunupArgs) -> Result<FilmHaltFlags, String> {
+    let Some(um) = a.halt_film else {
+        return Ok((None, None));
+    };
+    if !(um.is_finite() && um > 0.0) {
+        return Err(format!(
+            "--halt-film = {} um must be a finite number > 0",
+            crate::runup::fmt_number(um)
+        ));
+    }
+    let Some(text) = &a.halt_speeds else {
+        return Ok((Some(um), None));
+    };
+    let bad = || format!("--halt-speeds '{text}': expected LO:HI in Hz with 0 <= LO < HI");
+    let (lo, hi) = text.split_once(':').ok_or_else(bad)?;
+    let (lo, hi): (f64, f64) = (
+        lo.trim().parse().map_err(|_| bad())?,
+        hi.trim().parse().map_err(|_| bad())?,
+    );
+    if !(lo.is_finite() && hi.is_finite() && 0.0 <= lo && lo < hi) {
+        return Err(bad());
+    }
+    Ok((Some(um), Some((lo, hi))))
 }
 
 /// "0:0,1.5:2000" -> [(0, 0), (1.5, 2000)]; the table's own checks follow in `validate`.
@@ -181,6 +219,7 @@ pub fn settings(a: &RunupArgs) -> Result<RunupSettings, String> {
     if let Some(i) = &a.imbalance_t {
         s.imbalance_t = triple(i, "imbalance-t")?;
     }
+    (s.halt_film_um, s.halt_speeds_hz) = film_halt(a)?;
     // Checked first, so that a parameter that does not map is reported with its flag; every
     // mesh the run-up chooses passes the same checks.
     s.validate()?;

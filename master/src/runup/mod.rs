@@ -72,6 +72,13 @@ pub struct RunupSettings {
     /// steps) or in the air films (its force extrapolated with the film force over each macro
     /// step). See docs/convergence.md.
     pub contact: ContactSide,
+    /// End the run-up once a film's minimum thickness falls below this [um] (`--halt-film`),
+    /// while the speed lies in `halt_speeds_hz`; None: run to the stop time.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub halt_film_um: Option<f64>,
+    /// The speed range [Hz] in which `halt_film_um` is watched (`--halt-speeds`; default: all).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub halt_speeds_hz: Option<(f64, f64)>,
     /// The design file the run-up started from (`--design`); its entries are the first
     /// `fmu_parameters`.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -145,9 +152,19 @@ impl RunupSettings {
             step_control: Some(DEFAULT_STEP_CONTROL),
             film_tolerance: Some(DEFAULT_FILM_TOLERANCE),
             contact: DEFAULT_CONTACT,
+            halt_film_um: None,
+            halt_speeds_hz: None,
             design: None,
             fmu_parameters: Vec::new(),
             shaft: None,
+        })
+    }
+
+    /// The run's film-thickness halt (`--halt-film`, `--halt-speeds`), if any.
+    pub fn film_halt(&self) -> Option<crate::run::FilmHalt> {
+        self.halt_film_um.map(|um| crate::run::FilmHalt {
+            min_film_m: um * 1e-6,
+            speeds_hz: self.halt_speeds_hz.unwrap_or((0.0, f64::INFINITY)),
         })
     }
 

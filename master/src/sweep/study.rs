@@ -32,6 +32,8 @@ pub const KEYS: &[(&str, &str, &str, &str)] = &[
     ("contact", "contact", "contact", ""),
     ("step_control", "sc", "step_control", ""),
     ("film_tolerance", "ftol", "film_tolerance", ""),
+    ("halt_film", "halt", "halt_film_um", "um"),
+    ("halt_speeds", "haltf", "", ""),
     ("fmu_dir", "fmu", "", ""),
 ];
 
@@ -43,6 +45,8 @@ pub(super) const NUMERICS: &[&str] = &[
     "film_tolerance",
     "fmu_dir",
     "calm_macro_step",
+    "halt_film",
+    "halt_speeds",
 ];
 
 /// Study keys that take true or false.
