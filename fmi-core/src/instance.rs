@@ -67,7 +67,7 @@ const STATE_PHASES: [Phase; 5] = [
     Phase::Terminated,
 ];
 
-/// The part of an instance that an FMU state (fmi2GetFMUstate) captures.
+/// The part of an instance that an FMU state (fmi2GetFMUstate, fmi3GetFMUState) captures.
 pub struct Core<M: Model> {
     pub phase: Phase,
     pub store: Store,
@@ -139,8 +139,9 @@ pub struct Instance<M: Model> {
     pub core: Core<M>,
     /// Reused between steps so doStep does not allocate.
     inputs: Inputs,
-    /// The `rtol` / `atol` parameters the master set through fmi2SetReal: they win over the
-    /// tolerance of fmi2SetupExperiment (see [`Instance::effective_store`]).
+    /// The `rtol` / `atol` parameters the master set (fmi2SetReal, fmi3SetFloat64): they win over
+    /// the tolerance of fmi2SetupExperiment / fmi3EnterInitializationMode (see
+    /// [`Instance::effective_store`]).
     tolerances_set: [bool; 2],
 }
 
@@ -382,7 +383,8 @@ impl<M: Model> Instance<M> {
         Ok(Status::Ok)
     }
 
-    /// fmi2Reset: back to the state right after fmi2Instantiate (start values, no model).
+    /// fmi2Reset / fmi3Reset: back to the state right after instantiation (start values, no
+    /// model).
     pub fn reset(&mut self) -> Res {
         let store = Store::from_info(&self.info);
         let de = self.info.default_experiment;

@@ -145,7 +145,8 @@ pub trait Log {
 pub enum StepOutcome {
     Ok,
     /// The step could not be completed; the model reached `reached_time` and keeps that state.
-    /// The instance reports fmi2Discard and fmi2LastSuccessfulTime = `reached_time`.
+    /// The instance reports Discard and its last successful time = `reached_time`
+    /// (fmi2LastSuccessfulTime; FMI 3.0's fmi3DoStep returns it).
     Discard {
         reason: String,
         reached_time: f64,

@@ -1,4 +1,5 @@
-//! FMU states as byte blobs (fmi2SerializeFMUstate / fmi2DeSerializeFMUstate).
+//! FMU states as byte blobs (fmi2SerializeFMUstate / fmi2DeSerializeFMUstate, and FMI 3.0's
+//! fmi3SerializeFMUState / fmi3DeserializeFMUState: one format for both).
 //!
 //! Layout: magic, format version, the FMU's GUID, the payload length, the payload (instance core and
 //! the model's own bytes), and an FNV-1a checksum of all of it. Truncated, foreign or corrupted bytes
