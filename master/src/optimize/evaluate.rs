@@ -369,6 +369,11 @@ pub fn nonlinear_decision(p: &Problem, n: &NonlinearResult) -> (bool, String) {
     if !p.classes.is_empty() && !p.classes.iter().any(|c| c == class) {
         why.push(format!("class {class} not allowed"));
     }
+    // A run that halted crossed the film limit, even where its series cannot show it (a film
+    // thickness that is not a number): never feasible on the part of a run.
+    if let (Some(h), true) = (&n.halted, why.is_empty()) {
+        why.push(format!("halted: {h}"));
+    }
     if why.is_empty() {
         (
             true,
@@ -628,6 +633,22 @@ mod tests {
         assert!(ok.feasible);
         // Margin: the nearer limit is the whirl (0.5 of 1 um) before the film (3 of 2 um).
         assert!((ok.margin - 0.5).abs() < 1e-12, "{}", ok.margin);
+        // A halted run-up is never a pass: its film crossed the limit, even where its series
+        // cannot show it (a film thickness that is not a number).
+        let halted = |film: f64| NonlinearResult {
+            halted: Some("film_T.h_min = NaN um < 2 um at 900 Hz (t = 1.3 s)".into()),
+            ..run(film, 0.5)
+        };
+        let (pass, why) = nonlinear_decision(&p, &halted(1.5));
+        assert!(
+            !pass && why == "film 1.50 um below 2 um (the run-up halted at the film limit)",
+            "{why}"
+        );
+        let (pass, why) = nonlinear_decision(&p, &halted(3.0));
+        assert!(
+            !pass && why.starts_with("halted: film_T.h_min = NaN um"),
+            "{why}"
+        );
     }
 
     #[test]

@@ -57,7 +57,8 @@ pub struct FilmHalt {
 }
 
 /// Watches the films' minimum thickness for [`FilmHalt`] and asks the run to halt where it is
-/// crossed (the sample that crosses it is the series' last row).
+/// crossed: at the macro point of the sample that crosses it (that sample is the series' last
+/// row, or, inside a long calm macro step, the rows up to the step's end follow it).
 struct FilmWatch {
     rule: FilmHalt,
     /// Columns of rotor.omega, film_C.h_min, film_T.h_min in a sample's values.
