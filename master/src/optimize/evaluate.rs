@@ -127,6 +127,10 @@ pub struct Candidate {
     /// The constraints the search sees (<= 0 feasible).
     #[serde(deserialize_with = "nans_if_null")]
     pub constraints: Vec<f64>,
+    /// The point as the search asked for it, before `x` was rounded: what the search is given
+    /// back on resume, so that it asks for what it would have asked had it run through.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub asked: Vec<f64>,
 }
 
 /// The speeds of the linear stage: the range on its step, extended by [`LINEAR_MARGIN`], and
@@ -495,6 +499,7 @@ pub fn summarize(p: &Problem, index: usize, x: Vec<f64>, corners: Vec<Corner>) -
         margin.min(0.0)
     };
     let mut c = Candidate {
+        asked: vec![],
         index,
         x,
         corners,

@@ -224,6 +224,7 @@ fn run_round(
     *round += 1;
     let first = candidates.len();
     let t0 = Instant::now();
+    let asked_xs = xs;
     let xs: Vec<Vec<f64>> = xs
         .iter()
         .map(|x| {
@@ -242,7 +243,8 @@ fn run_round(
             fresh.push(x.clone());
         }
     }
-    let asked = serde_json::to_string(&xs).map_err(|e| e.to_string())?;
+    // The points as asked (not rounded): a resumed round gives the search the same points.
+    let asked = serde_json::to_string(asked_xs).map_err(|e| e.to_string())?;
     crate::output::write_whole(&opts.out.join(PENDING), asked.as_bytes())?;
     let evaluated = evaluate_batch(p, base_values, &fresh, first, runner)?;
     let mut batch: Vec<Candidate> = vec![];
@@ -252,10 +254,12 @@ fn run_round(
             Some(same) => Candidate {
                 index: first + i,
                 reason: format!("the design of #{} again: {}", same.index, same.reason),
+                asked: asked_xs[i].clone(),
                 ..same.clone()
             },
             None => Candidate {
                 index: first + i,
+                asked: asked_xs[i].clone(),
                 ..evaluated
                     .iter()
                     .find(|c| &c.x == x)
@@ -331,7 +335,12 @@ pub fn constraint_count(p: &Problem) -> usize {
 fn as_search(p: &Problem, c: &Candidate) -> design_search::Evaluation {
     let o = &p.objectives[0];
     design_search::Evaluation {
-        x: c.x.clone(),
+        // The point the search asked for (candidates of earlier versions: the rounded one).
+        x: if c.asked.is_empty() {
+            c.x.clone()
+        } else {
+            c.asked.clone()
+        },
         objective: evaluate::to_minimise(o, c.objectives[0]),
         constraints: c.constraints.clone(),
     }
