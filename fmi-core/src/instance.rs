@@ -359,8 +359,13 @@ impl<M: Model> Instance<M> {
             return Ok(());
         }
         let mut log = ModelLog(&self.logger);
-        let model = M::new(&self.effective_store(), self.core.start_time, &mut log)
-            .map_err(|e| (Status::Error, e))?;
+        let model = M::new(
+            &self.effective_store(),
+            self.core.start_time,
+            self.resource_dir.as_deref(),
+            &mut log,
+        )
+        .map_err(|e| (Status::Error, e))?;
         model.write_outputs(&mut self.core.store);
         self.core.model = Some(model);
         self.core.model_stale = false;

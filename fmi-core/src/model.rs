@@ -164,8 +164,14 @@ pub trait Model: Clone + Send + Sized + 'static {
 
     /// Builds the model from the parameter values in `store` (validate them here: a bad parameter
     /// returns a clear message, the instance reports fmi2Error). Inputs in `store` hold their values
-    /// at the start time.
-    fn new(store: &Store, start_time: f64, log: &mut dyn Log) -> Result<Self, String>;
+    /// at the start time. `resources` is the FMU's unpacked resources folder, where the importer
+    /// gave one (a model may read data files there).
+    fn new(
+        store: &Store,
+        start_time: f64,
+        resources: Option<&std::path::Path>,
+        log: &mut dyn Log,
+    ) -> Result<Self, String>;
 
     /// Refuses a start time the model cannot take at the call that gives it (fmi2SetupExperiment,
     /// fmi3EnterInitializationMode) instead of when initialization ends, which is too late for a

@@ -242,7 +242,12 @@ impl Model for AirFilmFmu {
         Ok(())
     }
 
-    fn new(store: &Store, start_time: f64, _log: &mut dyn Log) -> Result<Self, String> {
+    fn new(
+        store: &Store,
+        start_time: f64,
+        _resources: Option<&std::path::Path>,
+        _log: &mut dyn Log,
+    ) -> Result<Self, String> {
         let params = params_from(store);
         params.validate().map_err(|e| in_units(e.to_string()))?;
         let mut film = AirFilm::new(params.clone()).map_err(|e| e.to_string())?;
@@ -438,7 +443,7 @@ mod tests {
         store.reals[vr::OMEGA as usize] = std::f64::consts::TAU * 1000.0;
         store.reals[vr::DY as usize] = -0.3 * store.reals[vr::C as usize];
         store.booleans[vr::START_STEADY as usize] = true;
-        let mut m = AirFilmFmu::new(&store, 0.0, &mut NoLog).unwrap();
+        let mut m = AirFilmFmu::new(&store, 0.0, None, &mut NoLog).unwrap();
         let fixed = m.fixed_nodes();
         let p0 = m.pressures_rel().to_vec();
         assert_eq!(fixed.len(), p0.len());
@@ -478,7 +483,7 @@ mod tests {
         store.integers[vr::N_ELEM_PHI as usize] = 8;
         store.integers[vr::N_ELEM_Z as usize] = 2;
         store.reals[vr::OMEGA as usize] = std::f64::consts::TAU * 1000.0;
-        let mut m = AirFilmFmu::new(&store, 0.0, &mut NoLog).unwrap();
+        let mut m = AirFilmFmu::new(&store, 0.0, None, &mut NoLog).unwrap();
         let good = m.outputs;
         assert!(good.all_finite());
         let n = m.film.pressures_rel().len();

@@ -10,6 +10,7 @@ pub mod body;
 pub mod constraint;
 pub mod disturbance;
 pub mod eigen;
+pub mod flexible;
 pub mod forced;
 pub mod ggl;
 pub mod integrator;

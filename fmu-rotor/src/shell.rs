@@ -3,12 +3,12 @@
 //!
 //! Value references are part of the product (third-party masters store them): append, never renumber.
 
+use crate::flexible::{FlexRotor, FlexibleSpec};
 use crate::params::MAX_SPEED_POINTS;
 use crate::{BearingForces, Disturbance, Imbalance, Rotor, RotorError, RotorParams};
 use bearing::{Bore, BoreContact, ContactLaw};
 use fmi_core::model::{Log, Model, StepInputs, StepOutcome, Store};
 use fmi_core::variables::{DefaultExperiment, ModelInfo, Variable};
-use serde::{Deserialize, Serialize};
 
 /// Real value references (Integer ones at the end).
 pub mod vr {
@@ -92,20 +92,109 @@ pub mod vr {
 
 const DOC: &str = include_str!("shell_doc.html");
 
-#[derive(Clone, Debug, Serialize, Deserialize)]
-pub struct RotorFmu {
-    rotor: Rotor,
+/// The simulator behind the FMU: the paper's rigid rotor, or a flexible shaft where the FMU's
+/// resources hold one (`resources/shaft.json`, see [`crate::flexible`]).
+#[derive(Clone, Debug)]
+pub enum Simulator {
+    Rigid(Box<Rotor>),
+    Flexible(Box<FlexRotor>),
 }
+
+#[derive(Clone, Debug)]
+pub struct RotorFmu {
+    sim: Simulator,
+}
+
+/// The first bytes of a flexible rotor's serialized state (a rigid rotor's state is the rotor
+/// alone, as it always was, so saved states of either kind read back).
+const FLEXIBLE_MAGIC: &[u8; 8] = b"FLEXROT1";
 
 impl RotorFmu {
     /// The simulator inside (the master's periodic-orbit search reads and restarts it in a
     /// deserialized FMU state).
-    pub fn rotor(&self) -> &Rotor {
-        &self.rotor
+    pub fn simulator(&self) -> &Simulator {
+        &self.sim
     }
-    pub fn rotor_mut(&mut self) -> &mut Rotor {
-        &mut self.rotor
+
+    /// The rigid rotor, if this is one.
+    pub fn rotor(&self) -> Option<&Rotor> {
+        match &self.sim {
+            Simulator::Rigid(r) => Some(r),
+            Simulator::Flexible(_) => None,
+        }
     }
+
+    /// The state a periodic-orbit search varies (the rigid rotor's 16 lateral values; the
+    /// flexible rotor's coordinates and rates).
+    pub fn lateral_state(&self) -> Vec<f64> {
+        match &self.sim {
+            Simulator::Rigid(r) => r.lateral_state().to_vec(),
+            Simulator::Flexible(f) => f.lateral_state(),
+        }
+    }
+
+    /// Starts again from `state` (as [`RotorFmu::lateral_state`] gives it) at a constant speed.
+    pub fn restart_constant_speed(
+        &mut self,
+        state: &[f64],
+        speed_hz: f64,
+    ) -> Result<(), RotorError> {
+        match &mut self.sim {
+            Simulator::Rigid(r) => {
+                let lateral = state.try_into().map_err(|_| {
+                    RotorError::InvalidInput(format!(
+                        "the rigid rotor's lateral state has 16 values, not {}",
+                        state.len()
+                    ))
+                })?;
+                r.restart_constant_speed(lateral, speed_hz)
+            }
+            Simulator::Flexible(f) => f.restart_constant_speed(state, speed_hz),
+        }
+    }
+
+    fn outputs(&self) -> crate::RotorOutputs {
+        match &self.sim {
+            Simulator::Rigid(r) => r.outputs(),
+            Simulator::Flexible(f) => f.outputs(),
+        }
+    }
+
+    fn output_derivatives(&self) -> crate::OutputDerivatives {
+        match &self.sim {
+            Simulator::Rigid(r) => r.output_derivatives(),
+            Simulator::Flexible(f) => f.output_derivatives(),
+        }
+    }
+
+    fn totals(&self) -> &crate::StepStats {
+        match &self.sim {
+            Simulator::Rigid(r) => &r.integrator().totals,
+            Simulator::Flexible(f) => f.totals(),
+        }
+    }
+
+    fn time_s(&self) -> f64 {
+        match &self.sim {
+            Simulator::Rigid(r) => r.time_s(),
+            Simulator::Flexible(f) => f.time_s(),
+        }
+    }
+}
+
+/// The flexible rotor in `resources` (its `shaft.json`), if the FMU carries one.
+fn flexible_spec(resources: Option<&std::path::Path>) -> Result<Option<FlexibleSpec>, String> {
+    let Some(path) = resources.map(|r| r.join(crate::flexible::RESOURCE_FILE)) else {
+        return Ok(None);
+    };
+    if !path.exists() {
+        return Ok(None);
+    }
+    let text = std::fs::read_to_string(&path)
+        .map_err(|e| format!("{}: cannot read it: {e}", path.display()))?;
+    serde_json::from_str(&text)
+        .map(Some)
+        .map_err(|e| format!("{}: not a flexible rotor: {e}", path.display()))
 }
 
 /// The rotor parameters from the FMU's variable values (also used by the master's linear
@@ -611,7 +700,10 @@ impl Model for RotorFmu {
             description: "Rigid turbo-compressor rotor with two visco-elastically mounted bearing rings (GGL stabilized index-2 multibody model)",
             version: env!("CARGO_PKG_VERSION"),
             variables,
-            log_categories: vec![("logSolverStatistics", "steps, Newton iterations and constraint drift per communication step")],
+            log_categories: vec![
+                ("logSolverStatistics", "steps, Newton iterations and constraint drift per communication step"),
+                ("logModel", "what the model was built from: a flexible rotor's shaft and its reduction, with the reduction's measured error"),
+            ],
             default_experiment: DefaultExperiment { start_time: 0.0, stop_time: 0.1, tolerance: 1e-4, step_size: 1e-5 },
             documentation_html: DOC,
         }
@@ -640,13 +732,42 @@ impl Model for RotorFmu {
         Ok(())
     }
 
-    fn new(store: &Store, start_time: f64, _log: &mut dyn Log) -> Result<Self, String> {
+    fn new(
+        store: &Store,
+        start_time: f64,
+        resources: Option<&std::path::Path>,
+        log: &mut dyn Log,
+    ) -> Result<Self, String> {
         Self::check_start_time(start_time)?;
         let params = params_from(store);
         params.validate().map_err(|e| in_units(e.to_string()))?;
-        Ok(RotorFmu {
-            rotor: Rotor::new(params).map_err(|e| e.to_string())?,
-        })
+        let sim = match flexible_spec(resources)? {
+            None => Simulator::Rigid(Box::new(Rotor::new(params).map_err(|e| e.to_string())?)),
+            Some(spec) => {
+                let f = FlexRotor::new(params, spec).map_err(|e| in_units(e.to_string()))?;
+                let r = &f.reduction;
+                log.debug(
+                    "logModel",
+                    &format!(
+                        "flexible rotor of resources/{}: {} elements, {} coordinates reduced to {} \
+                         ({} fixed-interface modes kept, up to {:.0} Hz; {} dropped), natural \
+                         frequencies up to {:.0} Hz within {:.3} % of the full model; m, J_t, \
+                         J_p, z_cm, z_JC and z_JT are not used",
+                        crate::flexible::RESOURCE_FILE,
+                        f.spec().shaft.elements.len(),
+                        r.full_dof,
+                        r.reduced_dof,
+                        r.kept_modes_hz.len(),
+                        r.kept_modes_hz.last().copied().unwrap_or(0.0),
+                        r.dropped_modes,
+                        r.compared_up_to_hz,
+                        100.0 * r.frequency_error
+                    ),
+                );
+                Simulator::Flexible(Box::new(f))
+            }
+        };
+        Ok(RotorFmu { sim })
     }
 
     fn do_step(
@@ -662,7 +783,11 @@ impl Model for RotorFmu {
             ft_x_n: inputs.real_at(vr::F_T_X, tt),
             ft_y_n: inputs.real_at(vr::F_T_Y, tt),
         };
-        match self.rotor.advance(t, h, &forces) {
+        let result = match &mut self.sim {
+            Simulator::Rigid(r) => r.advance(t, h, &forces),
+            Simulator::Flexible(f) => f.advance(t, h, &forces),
+        };
+        match result {
             Ok(s) => {
                 if log.enabled("logSolverStatistics") {
                     log.debug(
@@ -682,14 +807,14 @@ impl Model for RotorFmu {
             }
             Err(e @ RotorError::StepFailure { .. }) => StepOutcome::Discard {
                 reason: e.to_string(),
-                reached_time: self.rotor.time_s(),
+                reached_time: self.time_s(),
             },
             Err(e) => StepOutcome::Error(e.to_string()),
         }
     }
 
     fn write_outputs(&self, store: &mut Store) {
-        let o = self.rotor.outputs();
+        let o = self.outputs();
         let r = &mut store.reals;
         for (base, b) in [(vr::DX_C, &o.bearing_c), (vr::DX_T, &o.bearing_t)] {
             let base = base as usize;
@@ -714,7 +839,7 @@ impl Model for RotorFmu {
         r[vr::DRIFT_VEL as usize] = o.drift_vel;
         r[vr::F_CONTACT_C as usize] = o.bearing_c.contact_n[0].hypot(o.bearing_c.contact_n[1]);
         r[vr::F_CONTACT_T as usize] = o.bearing_t.contact_n[0].hypot(o.bearing_t.contact_n[1]);
-        let s = &self.rotor.integrator().totals;
+        let s = self.totals();
         let clamp = |n: u64| n.min(i32::MAX as u64) as i32;
         store.integers[vr::N_STEPS as usize] = clamp(s.steps);
         store.integers[vr::N_REJECTED as usize] = clamp(s.rejected_steps);
@@ -725,8 +850,8 @@ impl Model for RotorFmu {
         if order != 1 {
             return None;
         }
-        let d = self.rotor.output_derivatives();
-        let o = self.rotor.outputs();
+        let d = self.output_derivatives();
+        let o = self.outputs();
         Some(match vr {
             vr::DX_C => d.bearing_c.ddx_m_s,
             vr::DY_C => d.bearing_c.ddy_m_s,
@@ -743,11 +868,26 @@ impl Model for RotorFmu {
     }
 
     fn serialize(&self) -> Vec<u8> {
-        bincode::serialize(self).expect("the rotor state serializes")
+        match &self.sim {
+            Simulator::Rigid(r) => bincode::serialize(r).expect("the rotor state serializes"),
+            Simulator::Flexible(f) => {
+                let mut out = FLEXIBLE_MAGIC.to_vec();
+                bincode::serialize_into(&mut out, f).expect("the rotor state serializes");
+                out
+            }
+        }
     }
 
     fn deserialize(bytes: &[u8]) -> Result<Self, String> {
-        bincode::deserialize(bytes).map_err(|e| format!("not a rotor state: {e}"))
+        let sim = match bytes.strip_prefix(FLEXIBLE_MAGIC) {
+            Some(rest) => Simulator::Flexible(
+                bincode::deserialize(rest).map_err(|e| format!("not a rotor state: {e}"))?,
+            ),
+            None => Simulator::Rigid(
+                bincode::deserialize(bytes).map_err(|e| format!("not a rotor state: {e}"))?,
+            ),
+        };
+        Ok(RotorFmu { sim })
     }
 }
 

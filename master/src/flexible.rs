@@ -270,32 +270,13 @@ pub fn modal(
     Ok(v)
 }
 
-/// The rigid rotor `p` as a flexible one, for checks of the rigid limit: a light, very stiff
-/// two-element shaft through the turbine journal (node 0), the centre of mass (node 1) and the
-/// compressor journal (node 2), the rotor's mass and inertias as a disk at the centre of mass.
-/// The shaft weighs 4e-5 of the rotor (density 1 kg/m^3) and is 1000 times as stiff as steel:
-/// its own bending modes lie above 20 kHz. Lighter or stiffer, the state matrix would span too
-/// many decades for the eigenvalues of the slow modes (1e-9 kg nodes on 300 N s/m films gave
-/// spurious modes at 0.001 Hz).
+/// The rigid rotor `p` as a flexible one, for checks of the rigid limit (the rotor FMU's
+/// [`fmu_rotor::flexible::stiff_shaft_of`]: a light, very stiff shaft through the journals and
+/// the centre of mass, the rotor's mass and inertias as a disk there). Lighter or stiffer, the
+/// state matrix would span too many decades for the eigenvalues of the slow modes (1e-9 kg
+/// nodes on 300 N s/m films gave spurious modes at 0.001 Hz).
 pub fn stiff_shaft_of(p: &fmu_rotor::RotorParams) -> ShaftModel {
-    let mut stiff = shaft::Material::steel();
-    stiff.rho_kg_m3 = 1.0;
-    stiff.e_pa *= 1e3;
-    stiff.g_pa *= 1e3;
-    ShaftModel {
-        elements: vec![
-            shaft::ShaftElement::cylinder(p.z_cm_m - p.z_jt_m, 0.0, 0.02, stiff.clone()),
-            shaft::ShaftElement::cylinder(p.z_jc_m - p.z_cm_m, 0.0, 0.02, stiff),
-        ],
-        disks: vec![shaft::Disk {
-            node: 1,
-            mass_kg: p.m_kg,
-            id_kg_m2: p.j_t_kg_m2,
-            ip_kg_m2: p.j_p_kg_m2,
-            tag: "rotor".into(),
-        }],
-        ..Default::default()
-    }
+    fmu_rotor::flexible::stiff_shaft_of(p).shaft
 }
 
 /// The rotor to scale [mm]: the shaft's outline (outer and, dashed, inner diameters), disks as

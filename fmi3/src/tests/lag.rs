@@ -78,7 +78,12 @@ impl Model for Lag {
         }
     }
 
-    fn new(store: &Store, _start_time: f64, _log: &mut dyn Log) -> Result<Self, String> {
+    fn new(
+        store: &Store,
+        _start_time: f64,
+        _resources: Option<&std::path::Path>,
+        _log: &mut dyn Log,
+    ) -> Result<Self, String> {
         Ok(Lag {
             tau_s: store.real(vr::TAU),
             y: store.real(vr::Y0),

@@ -25,6 +25,26 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
     // The FMUs are found before the calm plan's analysis runs (a wrong --fmu-dir was
     // reported only after it).
     let dir = fmu_dir(args.fmu_dir.clone())?;
+    if let Some(shaft) = &s.shaft {
+        let fmu = master::runup::shaft_fmu::rotor_fmu_with_shaft(&dir, shaft).fmus()?;
+        eprintln!(
+            "flexible rotor: {} shaft elements, bearings C and T at nodes {} and {}; rotor FMU {}",
+            shaft.model.elements.len(),
+            shaft.bearing_nodes[0],
+            shaft.bearing_nodes[1],
+            fmu.display()
+        );
+        s.rotor_fmu = Some(fmu);
+        // The calm plan's linear analysis is the rigid rotor's: no longer steps for a shaft.
+        if s.calm_macro_step_us.is_some() {
+            eprintln!(
+                "long calm steps: off (the calm plan analyses the rigid rotor; a flexible one \
+                 runs every macro step at {} us)",
+                s.macro_step_us
+            );
+            s.calm_macro_step_us = None;
+        }
+    }
     if let (Some(calm_us), Some(_)) = (s.calm_macro_step_us, s.calm_factor()) {
         // A cache that cannot be opened only makes the plan slower.
         let cache = args.linear_cache.as_deref().and_then(|d| {

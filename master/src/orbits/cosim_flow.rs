@@ -300,7 +300,7 @@ impl RotorFilmFlow {
             .model
             .as_ref()
             .ok_or("the rotor's FMU state holds no model")?;
-        Ok(m.rotor().lateral_state().to_vec())
+        Ok(m.lateral_state())
     }
 
     /// The rotor's lateral state now.
@@ -416,7 +416,6 @@ impl RotorFilmFlow {
             .as_mut()
             .ok_or("the rotor's FMU state holds no model")?;
         model
-            .rotor_mut()
             .restart_constant_speed(&lateral, self.speed_hz)
             .map_err(|e| e.to_string())?;
         model.write_outputs(&mut core.store);

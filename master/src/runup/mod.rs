@@ -8,6 +8,7 @@ mod defaults;
 mod design_args;
 pub mod flags;
 mod parse;
+pub mod shaft_fmu;
 pub use defaults::*;
 pub use design_args::DesignArgs;
 use parse::mesh_out_of_bounds;
@@ -88,10 +89,15 @@ pub struct RunupSettings {
     /// ("film.eta", "1.9e-5 Pa.s"); applied after, and in place of, the parameters above
     /// (`crate::fmu_params`).
     pub fmu_parameters: Vec<(String, String)>,
-    /// The design file's `[shaft]`: a flexible rotor for `airring stability` (run-ups, orbits and
-    /// sweeps refuse it: they co-simulate the paper's rigid rotor).
+    /// The design file's `[shaft]`: a flexible rotor. Run-ups (and the sweeps of run-ups)
+    /// co-simulate it in the rotor FMU that carries it (`shaft_fmu`); orbits and a study's
+    /// linear map refuse it.
     #[serde(skip)]
     pub shaft: Option<crate::design::shaft::ShaftSpec>,
+    /// The rotor FMU of a flexible rotor (`shaft_fmu::rotor_fmu_with_shaft`), set by the command
+    /// that runs it; the system file names it in place of FMU_DIR/rotor.fmu.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub rotor_fmu: Option<std::path::PathBuf>,
 }
 
 /// Which FMU evaluates the mixed-lubrication contact of a run-up.
@@ -157,6 +163,7 @@ impl RunupSettings {
             design: None,
             fmu_parameters: Vec::new(),
             shaft: None,
+            rotor_fmu: None,
         })
     }
 
@@ -270,7 +277,7 @@ impl RunupSettings {
     /// bearings). The linear analysis takes each film's own and needs only `validate`.
     pub fn validate_runup(&self) -> Result<(), String> {
         self.validate()?;
-        self.refuse_shaft("run-ups")?;
+        self.check_shaft()?;
         // Rows are written at macro points only: an interval that is not a whole number of
         // macro steps would space them unevenly (50 us at a 20 us step: 60, 40, 60, ... us).
         let per_row = (self.output_interval_us / self.macro_step_us).round();
@@ -297,14 +304,32 @@ impl RunupSettings {
         self.check_contact_geometry()
     }
 
+    /// A design's `[shaft]` as the rotor FMU will take it: the flexible rotor built with this
+    /// run-up's rotor parameters (its imbalances at nodes, the reduction within its error bound).
+    pub fn check_shaft(&self) -> Result<(), String> {
+        let Some(shaft) = &self.shaft else {
+            return Ok(());
+        };
+        let params = self.rotor_params()?;
+        fmu_rotor::flexible::FlexRotor::new(params, shaft_fmu::spec_of(shaft))
+            .map(|_| ())
+            .map_err(|e| {
+                let at = self
+                    .design
+                    .as_ref()
+                    .map_or(String::new(), |p| format!("{}: ", p.display()));
+                format!("{at}[shaft]: {}", with_units("rotor", e.to_string()))
+            })
+    }
+
     /// A design with a `[shaft]` (a flexible rotor) refused by what co-simulates the rigid rotor
     /// (`what`: "run-ups", "orbits", ...), rather than run without its shaft.
     pub fn refuse_shaft(&self, what: &str) -> Result<(), String> {
         match (&self.shaft, &self.design) {
             (Some(_), design) => Err(format!(
-                "{}[shaft] describes a flexible rotor: `airring stability` and `airring modal \
-                 --rotor` analyse it; {what} co-simulate the paper's rigid rotor (remove [shaft] \
-                 for them)",
+                "{}[shaft] describes a flexible rotor: `airring runup`, `airring stability` and \
+                 `airring modal --rotor` take it; {what} work on the paper's rigid rotor \
+                 (remove [shaft] for them)",
                 design
                     .as_ref()
                     .map_or(String::new(), |p| format!("{}: ", p.display()))
@@ -561,7 +586,10 @@ impl RunupSettings {
     pub fn system_toml(&self, fmu_dir: &str) -> String {
         let fmu = |name: &str, file: &str| FmuEntry {
             name: name.to_string(),
-            path: format!("{fmu_dir}/{file}"),
+            path: match (&self.rotor_fmu, name) {
+                (Some(p), "rotor") => p.display().to_string(),
+                _ => format!("{fmu_dir}/{file}"),
+            },
             parameters: self.instance_parameters(name).into_iter().collect(),
         };
         let mut connection = vec![];

@@ -109,7 +109,12 @@ impl Model for Oscillator {
         }
     }
 
-    fn new(store: &Store, start_time: f64, _log: &mut dyn Log) -> Result<Self, String> {
+    fn new(
+        store: &Store,
+        start_time: f64,
+        _resources: Option<&std::path::Path>,
+        _log: &mut dyn Log,
+    ) -> Result<Self, String> {
         Ok(Oscillator {
             m: store.real(vr::M),
             k: store.real(vr::K),
