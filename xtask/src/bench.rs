@@ -16,6 +16,8 @@ pub struct Options {
     pub runs: usize,
     pub load: bool,
     pub fmu_dir: Option<String>,
+    /// A design file (`--design`), e.g. a flexible rotor's `[shaft]`.
+    pub design: Option<String>,
 }
 
 impl Options {
@@ -26,6 +28,7 @@ impl Options {
             runs: 3,
             load: false,
             fmu_dir: None,
+            design: None,
         };
         let mut it = args.iter();
         while let Some(a) = it.next() {
@@ -54,6 +57,7 @@ impl Options {
                 }
                 "--load" => o.load = true,
                 "--fmu-dir" => o.fmu_dir = Some(value("--fmu-dir")?),
+                "--design" => o.design = Some(value("--design")?),
                 other => return Err(format!("bench runup: unknown argument '{other}'")),
             }
         }
@@ -161,6 +165,9 @@ pub fn runup(o: &Options) -> Result<(), String> {
                 .stderr(Stdio::null());
             if let Some(d) = &o.fmu_dir {
                 cmd.args(["--fmu-dir", d]);
+            }
+            if let Some(d) = &o.design {
+                cmd.args(["--design", d]);
             }
             let status = cmd
                 .status()

@@ -10,7 +10,7 @@
 //! - `docs-check`      the CLI reference is current, doc links resolve, no change log in docs/
 //! - `runup [ARGS]`    build the FMUs and the master, then `airring runup ARGS` (default: the path-1 run-up)
 //! - `bench`           the benchmarks of the hot loops (medians), then the run-up benchmark
-//! - `bench runup [--preset P] [--stop S] [--runs N] [--load] [--fmu-dir D]`: the whole run-up,
+//! - `bench runup [--preset P] [--stop S] [--runs N] [--load] [--fmu-dir D] [--design F]`: the whole run-up,
 //!   medians of wall time, macro steps, time in each FMU and the master's share (`bench.rs`)
 
 mod bench;
@@ -193,7 +193,7 @@ fn main() -> ExitCode {
             Some(other) => Err(format!("bench: unknown argument '{other}' (bench [runup ...])")),
         },
         _ => Err(
-            "usage: cargo xtask fmus [--glibc V] | descriptions [--check] | test [--quick] | cli-reference [--check] | docs-check | runup [ARGS] | bench [runup [--preset P] [--stop S] [--runs N] [--load] [--fmu-dir D]]".into(),
+            "usage: cargo xtask fmus [--glibc V] | descriptions [--check] | test [--quick] | cli-reference [--check] | docs-check | runup [ARGS] | bench [runup [--preset P] [--stop S] [--runs N] [--load] [--fmu-dir D] [--design F]]".into(),
         ),
     };
     match result {

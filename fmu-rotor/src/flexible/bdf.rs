@@ -3,8 +3,9 @@
 //! constraints: order 1 on the first step, then BDF2 (A-stable: the stiff shaft and ring modes
 //! do not limit the step), the local error K (y_{n+1} - y_pred) against the Hermite predictor
 //! through y_{n-1}, y_n and y'_n, K = (1 + w) / (2 + 3 w), w = h_n / h_{n-1}; modified Newton
-//! with the iteration matrix I - beta h J refactored when beta h moves by more than 25 %, when
-//! the speed moves (the gyroscopic terms), or when Newton converges slowly.
+//! with the iteration matrix I - beta h J factored anew when none of the four kept factorizations
+//! lies within 25 % of beta h and 1 % of the speed (the gyroscopic terms), or when Newton
+//! converges slowly.
 //!
 //! An input that jumps at the start of a call (a master's new force polynomial) moves the
 //! history onto the smooth solution through the post-jump derivative (y_{n-1} -= h_{n-1} dy'),
@@ -30,7 +31,6 @@ pub trait Ode {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BdfTolerances {
     pub rtol: f64,
-    /// Absolute tolerance of each component.
     pub h_max_s: f64,
     pub h_min_s: f64,
     pub max_steps_per_call: u64,
@@ -39,6 +39,7 @@ pub struct BdfTolerances {
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Bdf {
     pub tol: BdfTolerances,
+    /// Absolute tolerance of each component.
     pub atol: Vec<f64>,
     t: f64,
     y: Vec<f64>,
@@ -46,12 +47,15 @@ pub struct Bdf {
     /// y_{n-1} and h_{n-1} (none before the first step).
     prev: Option<(Vec<f64>, f64)>,
     h: f64,
-    lu: Option<Lu>,
-    /// beta h and the Jacobian parameter of the factorization.
-    lu_bh: f64,
-    lu_param: f64,
+    /// The factorizations kept, newest first (beta h, the Jacobian parameter, the factors): the
+    /// last step of a communication interval is cut to its end, so two or three step sizes take
+    /// turns, and each keeps its factors instead of refactoring at every turn.
+    factors: Vec<(f64, f64, Lu)>,
     pub totals: StepStats,
 }
+
+/// Factorizations kept (the rigid rotor's integrator keeps as many).
+const KEPT_FACTORS: usize = 4;
 
 fn wrms(e: &[f64], y: &[f64], y2: &[f64], atol: &[f64], rtol: f64) -> f64 {
     let n = e.len();
@@ -75,9 +79,7 @@ impl Bdf {
             ydot: vec![0.0; n],
             prev: None,
             h: h_init,
-            lu: None,
-            lu_bh: 0.0,
-            lu_param: 0.0,
+            factors: Vec::new(),
             totals: StepStats::default(),
         }
     }
@@ -95,7 +97,7 @@ impl Bdf {
     pub fn restart(&mut self, y: Vec<f64>) {
         self.y = y;
         self.prev = None;
-        self.lu = None;
+        self.factors.clear();
     }
 
     fn factor(&mut self, ode: &mut dyn Ode, t: f64, y: &[f64], bh: f64) -> Result<(), RotorError> {
@@ -108,9 +110,9 @@ impl Bdf {
         for i in 0..n {
             j[i * n + i] += 1.0;
         }
-        self.lu = Some(Lu::factor(n, j, "the flexible rotor's iteration matrix")?);
-        self.lu_bh = bh;
-        self.lu_param = ode.jacobian_parameter(t);
+        let lu = Lu::factor(n, j, "the flexible rotor's iteration matrix")?;
+        self.factors.insert(0, (bh, ode.jacobian_parameter(t), lu));
+        self.factors.truncate(KEPT_FACTORS);
         self.totals.jacobian_evaluations += 1;
         self.totals.factorizations += 1;
         Ok(())
@@ -182,13 +184,17 @@ impl Bdf {
             };
             let bh = beta * h;
             let param = ode.jacobian_parameter(t1);
-            let stale = |s: &Self| {
-                s.lu.is_none()
-                    || !(0.8..=1.25).contains(&(bh / s.lu_bh))
-                    || (param - s.lu_param).abs() > 0.01 * s.lu_param.abs().max(100.0)
+            let fits = |f: &(f64, f64, Lu)| {
+                (0.8..=1.25).contains(&(bh / f.0))
+                    && (param - f.1).abs() <= 0.01 * f.1.abs().max(100.0)
             };
-            if stale(self) {
-                self.factor(ode, t1, &pred, bh)?;
+            match self.factors.iter().position(fits) {
+                Some(0) => {}
+                Some(k) => {
+                    let f = self.factors.remove(k);
+                    self.factors.insert(0, f);
+                }
+                None => self.factor(ode, t1, &pred, bh)?,
             }
             // Modified Newton from the predictor.
             y_new.copy_from_slice(&pred);
@@ -203,7 +209,7 @@ impl Bdf {
                     for i in 0..n {
                         g[i] = -(y_new[i] - psi[i] - bh * fy[i]);
                     }
-                    self.lu.as_ref().expect("factored above").solve(&mut g);
+                    self.factors[0].2.solve(&mut g);
                     for i in 0..n {
                         y_new[i] += g[i];
                     }

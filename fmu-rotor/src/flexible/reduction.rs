@@ -57,15 +57,29 @@ fn mat(n: usize, a: &[f64]) -> MatRef<'_, f64> {
     MatRef::from_row_major_slice(a, n, n)
 }
 
-/// Reduces `model` (no rings: the rings are the rotor simulator's own coordinates) with the
-/// journals at `bearing_nodes` as interface; fixed-interface modes below `cutoff_hz` are kept;
-/// `load_nodes` get static corrections for forces in x and y.
-pub fn reduce(
+/// What every reduction of one shaft shares: the constraint modes, all fixed-interface modes
+/// (ascending) and the residual deflections' ingredients. The eigenproblem is solved once; a
+/// reduction at a cut-off then takes the modes below it.
+pub struct Analysis {
+    mm: shaft::Matrices,
+    b: [usize; 4],
+    interior: Vec<usize>,
+    /// Constraint modes: interior x 4.
+    phi_c: Mat<f64>,
+    /// (frequency [Hz], M-normalized interior shape), ascending.
+    modes: Vec<(f64, Vec<f64>)>,
+    /// Per load: its interior part and the static response K_ii^-1 f_i.
+    loads: Vec<(Vec<f64>, Vec<f64>)>,
+}
+
+/// The shaft `model` (no rings: the rings are the rotor simulator's own coordinates) with the
+/// journals at `bearing_nodes` as interface; `load_nodes` get residual deflections for forces in
+/// x and y.
+pub fn analyse(
     model: &ShaftModel,
     bearing_nodes: [usize; 2],
     load_nodes: &[usize],
-    cutoff_hz: f64,
-) -> Result<Reduced, String> {
+) -> Result<Analysis, String> {
     let mm = model.matrices();
     let nf = mm.n;
     let b = interface_dofs(bearing_nodes);
@@ -98,39 +112,34 @@ pub fn reduce(
         .self_adjoint_eigen(Side::Lower)
         .map_err(|_| "the fixed-interface eigenproblem did not converge".to_string())?;
     let (s, u) = (evd.S(), evd.U());
-    let mut kept: Vec<(f64, Vec<f64>)> = Vec::new();
-    let mut dropped = 0;
+    let mut modes: Vec<(f64, Vec<f64>)> = Vec::new();
     for j in (0..ni).rev() {
         let mu = s[j];
-        let f_hz = if mu > 0.0 {
-            (1.0 / mu).sqrt() / (2.0 * std::f64::consts::PI)
-        } else {
-            f64::INFINITY
-        };
-        if f_hz < cutoff_hz {
-            // phi = L^-T z, M-normalized (phi^T M_ii phi = mu).
-            let mut z = Mat::<f64>::from_fn(ni, 1, |i, _| u[(i, j)]);
-            faer::linalg::triangular_solve::solve_upper_triangular_in_place(
-                l.transpose(),
-                z.as_mut(),
-                faer::Par::Seq,
-            );
-            let scale = 1.0 / mu.sqrt();
-            kept.push((f_hz, (0..ni).map(|i| z[(i, 0)] * scale).collect()));
-        } else {
-            dropped += 1;
+        if mu <= 0.0 {
+            continue;
         }
+        let f_hz = (1.0 / mu).sqrt() / (2.0 * std::f64::consts::PI);
+        // phi = L^-T z, M-normalized (phi^T M_ii phi = mu).
+        let mut z = Mat::<f64>::from_fn(ni, 1, |i, _| u[(i, j)]);
+        faer::linalg::triangular_solve::solve_upper_triangular_in_place(
+            l.transpose(),
+            z.as_mut(),
+            faer::Par::Seq,
+        );
+        let scale = 1.0 / mu.sqrt();
+        modes.push((f_hz, (0..ni).map(|i| z[(i, 0)] * scale).collect()));
     }
-    // Residual deflections: gravity (x and y) and unit forces at the load nodes, each less what
-    // the kept modes carry.
-    let mut loads: Vec<Vec<f64>> = Vec::new();
+    // Loads: gravity (x and y, 1 m/s^2) and unit forces at the load nodes.
+    let mut full_loads: Vec<Vec<f64>> = Vec::new();
     for dir in 0..2 {
-        let e: Vec<f64> = (0..nf)
-            .map(|i| if i % DOF_PER_NODE == dir { 1.0 } else { 0.0 })
-            .collect();
-        loads.push(
+        full_loads.push(
             (0..nf)
-                .map(|i| (0..nf).map(|j| mm.m[i * nf + j] * e[j]).sum())
+                .map(|i| {
+                    (dir..nf)
+                        .step_by(DOF_PER_NODE)
+                        .map(|j| mm.m[i * nf + j])
+                        .sum()
+                })
                 .collect(),
         );
     }
@@ -138,81 +147,125 @@ pub fn reduce(
         for dir in 0..2 {
             let mut f = vec![0.0; nf];
             f[DOF_PER_NODE * node + dir] = 1.0;
-            loads.push(f);
+            full_loads.push(f);
         }
     }
-    let mut residuals = Vec::with_capacity(loads.len());
-    for f in &loads {
-        let fi = Mat::<f64>::from_fn(ni, 1, |i, _| f[interior[i]]);
-        let ui = llt.solve(&fi);
-        // The kept modes' static share: sum of phi phi^T f / omega^2.
-        let shares: Vec<f64> = kept
+    let loads = full_loads
+        .iter()
+        .map(|f| {
+            let fi = Mat::<f64>::from_fn(ni, 1, |i, _| f[interior[i]]);
+            let ui = llt.solve(&fi);
+            (
+                (0..ni).map(|i| fi[(i, 0)]).collect(),
+                (0..ni).map(|i| ui[(i, 0)]).collect(),
+            )
+        })
+        .collect();
+    Ok(Analysis {
+        mm,
+        b,
+        interior,
+        phi_c,
+        modes,
+        loads,
+    })
+}
+
+/// [`analyse`], then [`Analysis::reduce`] at `cutoff_hz`.
+pub fn reduce(
+    model: &ShaftModel,
+    bearing_nodes: [usize; 2],
+    load_nodes: &[usize],
+    cutoff_hz: f64,
+) -> Result<Reduced, String> {
+    Ok(analyse(model, bearing_nodes, load_nodes)?.reduce(cutoff_hz))
+}
+
+impl Analysis {
+    /// The fixed-interface modes' frequencies [Hz], ascending.
+    pub fn modes_hz(&self) -> Vec<f64> {
+        self.modes.iter().map(|m| m.0).collect()
+    }
+
+    /// The reduced shaft with the fixed-interface modes below `cutoff_hz`.
+    pub fn reduce(&self, cutoff_hz: f64) -> Reduced {
+        let (mm, nf) = (&self.mm, self.mm.n);
+        let kept: Vec<&(f64, Vec<f64>)> = self.modes.iter().filter(|m| m.0 < cutoff_hz).collect();
+        // Residual deflections: each load's static response less the kept modes' share
+        // (sum of phi phi^T f / omega^2).
+        let residuals = self
+            .loads
             .iter()
-            .map(|(f_hz, phi)| {
-                let w2 = (2.0 * std::f64::consts::PI * f_hz).powi(2);
-                (0..ni).map(|j| phi[j] * fi[(j, 0)]).sum::<f64>() / w2
+            .map(|(fi, ui)| {
+                let shares: Vec<f64> = kept
+                    .iter()
+                    .map(|(f_hz, phi)| {
+                        let w2 = (2.0 * std::f64::consts::PI * f_hz).powi(2);
+                        phi.iter().zip(fi).map(|(a, b)| a * b).sum::<f64>() / w2
+                    })
+                    .collect();
+                let mut full = vec![0.0; nf];
+                for (ii, &row) in self.interior.iter().enumerate() {
+                    let modal: f64 = kept
+                        .iter()
+                        .zip(&shares)
+                        .map(|((_, phi), p)| phi[ii] * p)
+                        .sum();
+                    full[row] = ui[ii] - modal;
+                }
+                full
             })
             .collect();
-        let mut full = vec![0.0; nf];
-        for (ii, &row) in interior.iter().enumerate() {
-            let modal: f64 = kept
-                .iter()
-                .zip(&shares)
-                .map(|((_, phi), p)| phi[ii] * p)
-                .sum();
-            full[row] = ui[(ii, 0)] - modal;
-        }
-        residuals.push(full);
-    }
-    // The basis T (n_full x n).
-    let n = 4 + kept.len();
-    let mut t = vec![0.0; nf * n];
-    for (col, &dof) in b.iter().enumerate() {
-        t[dof * n + col] = 1.0;
-        for (ii, &row) in interior.iter().enumerate() {
-            t[row * n + col] = phi_c[(ii, col)];
-        }
-    }
-    for (k, (_, v)) in kept.iter().enumerate() {
-        for (ii, &row) in interior.iter().enumerate() {
-            t[row * n + 4 + k] = v[ii];
-        }
-    }
-    let tm = MatRef::from_row_major_slice(&t, nf, n);
-    let project = |a: &[f64]| -> Vec<f64> {
-        let p = tm.transpose() * mat(nf, a) * tm;
-        let mut out = vec![0.0; n * n];
-        for i in 0..n {
-            for j in 0..n {
-                out[i * n + j] = p[(i, j)];
+        // The basis T (n_full x n).
+        let n = 4 + kept.len();
+        let mut t = vec![0.0; nf * n];
+        for (col, &dof) in self.b.iter().enumerate() {
+            t[dof * n + col] = 1.0;
+            for (ii, &row) in self.interior.iter().enumerate() {
+                t[row * n + col] = self.phi_c[(ii, col)];
             }
         }
-        out
-    };
-    let mut m = project(&mm.m);
-    let mut k = project(&mm.k);
-    // Exactly symmetric (the products round differently on either side).
-    for a in [&mut m, &mut k] {
-        for i in 0..n {
-            for j in 0..i {
-                let s = 0.5 * (a[i * n + j] + a[j * n + i]);
-                a[i * n + j] = s;
-                a[j * n + i] = s;
+        for (k, (_, v)) in kept.iter().enumerate() {
+            for (ii, &row) in self.interior.iter().enumerate() {
+                t[row * n + 4 + k] = v[ii];
             }
         }
+        let tm = MatRef::from_row_major_slice(&t, nf, n);
+        let project = |a: &[f64]| -> Vec<f64> {
+            let p = tm.transpose() * mat(nf, a) * tm;
+            let mut out = vec![0.0; n * n];
+            for i in 0..n {
+                for j in 0..n {
+                    out[i * n + j] = p[(i, j)];
+                }
+            }
+            out
+        };
+        let mut m = project(&mm.m);
+        let mut k = project(&mm.k);
+        // Exactly symmetric (the products round differently on either side).
+        for a in [&mut m, &mut k] {
+            for i in 0..n {
+                for j in 0..i {
+                    let s = 0.5 * (a[i * n + j] + a[j * n + i]);
+                    a[i * n + j] = s;
+                    a[j * n + i] = s;
+                }
+            }
+        }
+        Reduced {
+            n,
+            m,
+            k,
+            c: project(&mm.c),
+            g: project(&mm.g),
+            basis: t,
+            n_full: nf,
+            kept_modes_hz: kept.iter().map(|(f, _)| *f).collect(),
+            dropped_modes: self.modes.len() - kept.len(),
+            residuals,
+        }
     }
-    Ok(Reduced {
-        n,
-        m,
-        k,
-        c: project(&mm.c),
-        g: project(&mm.g),
-        basis: t,
-        n_full: nf,
-        kept_modes_hz: kept.iter().map(|(f, _)| *f).collect(),
-        dropped_modes: dropped,
-        residuals,
-    })
 }
 
 impl Reduced {
@@ -228,27 +281,20 @@ impl Reduced {
     }
 
     /// The largest relative error of the natural frequencies below `up_to_hz` of the shaft with
-    /// an isotropic spring `k_n_m` from each journal to the ground, reduced against full
-    /// (not spinning, undamped): the reduction's measured error bound. Rayleigh-Ritz: a
-    /// reduced frequency is never below the full one. Returns (error, frequencies compared).
+    /// an isotropic spring `k_n_m` from each journal to the ground, this reduction against
+    /// `full` (the full model's, [`full_frequencies_hz`]; not spinning, undamped): the
+    /// reduction's measured error bound. Rayleigh-Ritz: a reduced frequency is never below the
+    /// full one. Returns (error, frequencies compared).
     pub fn frequency_error(
         &self,
-        model: &ShaftModel,
-        bearing_nodes: [usize; 2],
+        full: &[f64],
         k_n_m: f64,
         up_to_hz: f64,
     ) -> Result<(f64, usize), String> {
-        let mm = model.matrices();
-        let nf = mm.n;
-        let mut k_full = mm.k.clone();
-        for d in interface_dofs(bearing_nodes) {
-            k_full[d * nf + d] += k_n_m;
-        }
         let mut k_red = self.k.clone();
         for d in 0..4 {
             k_red[d * self.n + d] += k_n_m;
         }
-        let full = natural_frequencies_hz(nf, &mm.m, &k_full)?;
         let red = natural_frequencies_hz(self.n, &self.m, &k_red)?;
         let mut worst = 0.0f64;
         let mut count = 0;
@@ -261,6 +307,22 @@ impl Reduced {
         }
         Ok((worst, count))
     }
+}
+
+/// The full model's natural frequencies [Hz] with an isotropic spring `k_n_m` from each journal
+/// to the ground (not spinning, undamped), ascending.
+pub fn full_frequencies_hz(
+    model: &ShaftModel,
+    bearing_nodes: [usize; 2],
+    k_n_m: f64,
+) -> Result<Vec<f64>, String> {
+    let mm = model.matrices();
+    let nf = mm.n;
+    let mut k_full = mm.k.clone();
+    for d in interface_dofs(bearing_nodes) {
+        k_full[d * nf + d] += k_n_m;
+    }
+    natural_frequencies_hz(nf, &mm.m, &k_full)
 }
 
 /// Ascending natural frequencies [Hz] of K x = w^2 M x (K positive definite).

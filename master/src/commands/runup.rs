@@ -34,6 +34,19 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
             shaft.bearing_nodes[1],
             fmu.display()
         );
+        if let Some(r) = s.shaft_reduction().flag()? {
+            eprintln!(
+                "reduced from {} to {} coordinates: {} fixed-interface modes below {:.0} Hz \
+                 ({} left out); natural frequencies up to {:.0} Hz within {:.3} % of the full model",
+                r.full_dof,
+                r.reduced_dof,
+                r.kept_modes_hz.len(),
+                r.cutoff_hz,
+                r.dropped_modes,
+                r.compared_up_to_hz,
+                100.0 * r.frequency_error
+            );
+        }
         s.rotor_fmu = Some(fmu);
         // The calm plan's linear analysis is the rigid rotor's: no longer steps for a shaft.
         if s.calm_macro_step_us.is_some() {

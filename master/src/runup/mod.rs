@@ -307,12 +307,17 @@ impl RunupSettings {
     /// A design's `[shaft]` as the rotor FMU will take it: the flexible rotor built with this
     /// run-up's rotor parameters (its imbalances at nodes, the reduction within its error bound).
     pub fn check_shaft(&self) -> Result<(), String> {
+        self.shaft_reduction().map(|_| ())
+    }
+
+    /// The reduction the rotor FMU will make of the design's shaft (none without a shaft).
+    pub fn shaft_reduction(&self) -> Result<Option<fmu_rotor::flexible::ReductionReport>, String> {
         let Some(shaft) = &self.shaft else {
-            return Ok(());
+            return Ok(None);
         };
         let params = self.rotor_params()?;
         fmu_rotor::flexible::FlexRotor::new(params, shaft_fmu::spec_of(shaft))
-            .map(|_| ())
+            .map(|f| Some(f.reduction))
             .map_err(|e| {
                 let at = self
                     .design

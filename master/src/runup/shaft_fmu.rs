@@ -9,7 +9,7 @@
 //! run-ups of one shaft share it, and a rebuilt base FMU or another shaft gives another file.
 
 use crate::design::shaft::ShaftSpec;
-use fmu_rotor::flexible::{FlexibleSpec, DEFAULT_CUTOFF_HZ, RESOURCE_FILE};
+use fmu_rotor::flexible::{FlexibleSpec, RESOURCE_FILE};
 use std::io::{Cursor, Read, Write};
 use std::path::{Path, PathBuf};
 
@@ -18,7 +18,7 @@ pub fn spec_of(shaft: &ShaftSpec) -> FlexibleSpec {
     FlexibleSpec {
         shaft: shaft.model.clone(),
         bearing_nodes: shaft.bearing_nodes,
-        cutoff_hz: DEFAULT_CUTOFF_HZ,
+        cutoff_hz: None,
     }
 }
 
