@@ -279,6 +279,24 @@ pub fn stiff_shaft_of(p: &fmu_rotor::RotorParams) -> ShaftModel {
     fmu_rotor::flexible::stiff_shaft_of(p).shaft
 }
 
+/// [`rotor_drawing`] of a rotor whose air ring bearings sit at `bearing_nodes` [C, T] (a
+/// design's `[shaft]`, run up in the rotor FMU): the rings drawn at their nodes.
+pub fn drawing_with_bearings(model: &ShaftModel, bearing_nodes: [usize; 2]) -> Chart {
+    let mut m = model.clone();
+    for (node, tag) in bearing_nodes.into_iter().zip(["C", "T"]) {
+        m.rings.push(Ring {
+            node,
+            mass_kg: 1.0,
+            mount_k_n_m: 0.0,
+            mount_c_n_s_m: 0.0,
+            film_k_n_m: [[0.0; 2]; 2],
+            film_c_n_s_m: [[0.0; 2]; 2],
+            tag: tag.into(),
+        });
+    }
+    rotor_drawing(&m)
+}
+
 /// The rotor to scale [mm]: the shaft's outline (outer and, dashed, inner diameters), disks as
 /// solid disks of their mass and inertias, bearings at their nodes (linear: grey; air ring: the
 /// ring in blue), and the node numbers.

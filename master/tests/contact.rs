@@ -58,6 +58,7 @@ fn drop_c30(
     let sys = dir.join("system.toml");
     std::fs::write(&sys, s.system_toml(&fmu_dir().to_string_lossy())).unwrap();
     let opts = RunOptions {
+        figures: Vec::new(),
         out_dir: dir.clone(),
         checkpoint_every_s: None,
         stop: Arc::new(AtomicBool::new(false)),

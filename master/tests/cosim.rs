@@ -28,6 +28,7 @@ fn tmp(name: &str) -> PathBuf {
 
 fn opts(out: &Path) -> RunOptions {
     RunOptions {
+        figures: Vec::new(),
         out_dir: out.to_path_buf(),
         checkpoint_every_s: None,
         stop: Arc::new(AtomicBool::new(false)),

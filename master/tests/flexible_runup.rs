@@ -43,7 +43,12 @@ fn a_stiff_shaft_runs_up_as_the_rigid_rotor() {
         ]);
         assert!(ok, "{err}");
         assert!(err.contains("flexible rotor: 2 shaft elements"), "{err}");
+        assert!(err.contains("reduced from 12 to 4 coordinates"), "{err}");
         let (r, f) = (summary(&rigid), summary(&flexible));
+        // The rotor to scale, in the report.
+        assert!(f.plots.as_ref().unwrap().iter().any(|p| p == "rotor.svg"));
+        let report = std::fs::read_to_string(flexible.join("report.html")).unwrap();
+        assert!(report.contains("rotor.svg"));
         assert_eq!(r.classification, f.classification, "{preset}");
         assert_eq!(r.classification.as_deref(), Some(preset));
         let (ro, fo) = (r.onset_speed_hz.unwrap(), f.onset_speed_hz.unwrap());

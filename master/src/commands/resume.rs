@@ -74,7 +74,20 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
     }
     // A run-up that was to halt on its film limit still is.
     let halt = halt_of(&old.settings);
+    // A flexible rotor's drawing, from the shaft in the rotor FMU the run-up ran.
+    let figures = old
+        .settings
+        .get("rotor_fmu")
+        .and_then(|p| p.as_str())
+        .and_then(|p| master::runup::shaft_fmu::shaft_in(std::path::Path::new(p)).ok()?)
+        .map(|spec| {
+            let chart = master::flexible::drawing_with_bearings(&spec.shaft, spec.bearing_nodes);
+            ("rotor".to_string(), chart)
+        })
+        .into_iter()
+        .collect();
     let opts = RunOptions {
+        figures,
         out_dir: dir.clone(),
         checkpoint_every_s: checkpoint_every,
         stop: stop_flag(),

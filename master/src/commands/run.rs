@@ -47,6 +47,7 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
     });
     master::run::folder::check_new_run(&out, common.overwrite)?;
     let opts = RunOptions {
+        figures: Vec::new(),
         out_dir: out.clone(),
         checkpoint_every_s: common.checkpoint_every,
         stop: stop_flag(),

@@ -98,6 +98,15 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
         bores: None,
         parquet: common.parquet,
         halt: s.film_halt(),
+        // A flexible rotor to scale (report.html shows it).
+        figures: s
+            .shaft
+            .iter()
+            .map(|sh| {
+                let chart = master::flexible::drawing_with_bearings(&sh.model, sh.bearing_nodes);
+                ("rotor".to_string(), chart)
+            })
+            .collect(),
     };
     let report = new_run(&staged.path, &opts).map_err(|e| Error::Run(staged.strip_path(e)))?;
     Ok(finish(report, &out))

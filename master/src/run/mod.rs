@@ -45,6 +45,9 @@ pub struct RunOptions {
     pub parquet: bool,
     /// End the run once a film's minimum thickness falls below a limit (`runup --halt-film`).
     pub halt: Option<FilmHalt>,
+    /// Figures of what was run, drawn before it (a flexible rotor to scale): (file stem, chart),
+    /// saved and listed with the run-up's figures when the run ends.
+    pub figures: Vec<(String, crate::plot::Chart)>,
 }
 
 /// A run-up that ends once it has crossed its film-thickness limit: the minimum film thickness
@@ -470,6 +473,19 @@ fn write_summary(
     }
     if let Some(files) = power_loss(&mut summary, recorded, rows, &opts.out_dir) {
         summary.plots.get_or_insert_with(Vec::new).extend(files);
+    }
+    for (stem, chart) in &opts.figures {
+        match crate::plot::Figure::save(chart, &opts.out_dir, stem) {
+            Ok(files) => summary.plots.get_or_insert_with(Vec::new).extend(
+                files
+                    .iter()
+                    .filter_map(|f| f.file_name())
+                    .map(|f| f.to_string_lossy().into_owned()),
+            ),
+            Err(e) => {
+                summary.plot_error.get_or_insert_with(|| e.to_string());
+            }
+        }
     }
     if let Err(e) = summary.write(&opts.out_dir) {
         // The figures take the space first: say so beside the summary's own error.
