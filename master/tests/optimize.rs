@@ -232,3 +232,115 @@ fn run_ups_left_to_another_runner_give_the_same_evaluations() {
     assert_eq!(table(&own), table(&ext));
     let _ = std::fs::remove_dir_all(&base);
 }
+
+/// The evaluations of a search, line by line, without the wall times (which differ run to run).
+fn evaluations(dir: &Path) -> Vec<serde_json::Value> {
+    std::fs::read_to_string(dir.join("evaluations.jsonl"))
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let mut v: serde_json::Value = serde_json::from_str(l).unwrap();
+            if let Some(o) = v.as_object_mut() {
+                o.retain(|k, _| !k.contains("wall"));
+            }
+            v
+        })
+        .collect()
+}
+
+/// A search stopped in the middle of a round and started again gives the evaluations of a
+/// search that ran through: the same points asked, the same values, in the same order. Stopped
+/// by Ctrl-C (SIGINT) and killed with SIGKILL, each sent to the whole process group (the
+/// optimisation and its run-ups), as a terminal or a batch system sends it.
+#[test]
+fn a_search_interrupted_or_killed_resumes_to_the_same_evaluations() {
+    let base = common::tmp("optimize", "sigkill");
+    std::fs::create_dir_all(&base).unwrap();
+    let file = base.join("fast.toml");
+    std::fs::write(&file, PROBLEM.replace("budget = 6", "budget = 8")).unwrap();
+    let f = file.to_str().unwrap();
+    let whole = base.join("whole");
+    let (ok, err) = airring(&[
+        "optimize",
+        f,
+        "--out",
+        whole.to_str().unwrap(),
+        "--no-verify",
+        "--quiet",
+    ]);
+    assert!(ok, "{err}");
+    let a = evaluations(&whole);
+    assert_eq!(a.len(), 8);
+    for (signal, name) in [(libc::SIGINT, "SIGINT"), (libc::SIGKILL, "SIGKILL")] {
+        let stopped = base.join(name);
+        let at = stop_in_a_round(f, &stopped, signal);
+        let (ok, err) = airring(&[
+            "optimize",
+            f,
+            "--out",
+            stopped.to_str().unwrap(),
+            "--no-verify",
+            "--quiet",
+        ]);
+        assert!(ok, "{name}: {err}");
+        let b = evaluations(&stopped);
+        assert_eq!(b.len(), 8, "{name}");
+        for (i, (x, y)) in a.iter().zip(&b).enumerate() {
+            assert!(
+                x == y,
+                "{name} after {at} evaluations: evaluation {i} differs, asked {} against {}",
+                x["asked"],
+                y["asked"]
+            );
+        }
+    }
+}
+
+/// Starts the search of `file` into `out` and sends `signal` to its process group once the
+/// first round of the search proper (after the four initial points) has started: one of its
+/// candidates is in, the other is not. Returns the evaluations there were.
+fn stop_in_a_round(file: &str, out: &Path, signal: i32) -> usize {
+    use std::os::unix::process::CommandExt;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_airring"))
+        .args([
+            "optimize",
+            file,
+            "--out",
+            out.to_str().unwrap(),
+            "--no-verify",
+            "--quiet",
+        ])
+        .current_dir(root())
+        .process_group(0)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn()
+        .unwrap();
+    let lines = || {
+        std::fs::read_to_string(out.join("evaluations.jsonl"))
+            .map(|t| t.lines().count())
+            .unwrap_or(0)
+    };
+    let t0 = std::time::Instant::now();
+    while lines() < 5 {
+        assert!(
+            child.try_wait().unwrap().is_none(),
+            "the search ended before it was stopped"
+        );
+        assert!(
+            t0.elapsed().as_secs() < 600,
+            "no fifth evaluation in 10 minutes"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    // SAFETY: kill(2) on the child's own process group (process_group(0) made it its leader).
+    let r = unsafe { libc::kill(-(child.id() as i32), signal) };
+    assert_eq!(r, 0);
+    let _ = child.wait();
+    let at = lines();
+    assert!(
+        at < 8,
+        "stopped after the search had ended: {at} evaluations"
+    );
+    at
+}
