@@ -133,6 +133,20 @@ impl RotorFmu {
         }
     }
 
+    /// Typical magnitudes of the lateral state's values, given a clearance `c_m`, the journal
+    /// span `span_m` (rigid rotor: a tilt moving a journal by one clearance) and a whirl
+    /// frequency `w_rad_s` (the rates).
+    pub fn lateral_scales(&self, c_m: f64, span_m: f64, w_rad_s: f64) -> Vec<f64> {
+        let pos: Vec<f64> = match &self.sim {
+            Simulator::Rigid(_) => vec![c_m, c_m, c_m / span_m, c_m / span_m, c_m, c_m, c_m, c_m],
+            Simulator::Flexible(f) => f.coordinate_scales().iter().map(|s| c_m / s).collect(),
+        };
+        pos.iter()
+            .copied()
+            .chain(pos.iter().map(|p| p * w_rad_s))
+            .collect()
+    }
+
     /// Starts again from `state` (as [`RotorFmu::lateral_state`] gives it) at a constant speed.
     pub fn restart_constant_speed(
         &mut self,

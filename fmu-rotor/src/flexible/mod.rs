@@ -489,6 +489,16 @@ impl FlexRotor {
         self.st.n
     }
 
+    /// Each coordinate's largest translation of a shaft node or ring per unit [m per unit]: the
+    /// journals' and rings' 1, a mode's its largest node displacement (the error weights use
+    /// it; so does a periodic-orbit search, for its typical magnitudes).
+    pub fn coordinate_scales(&self) -> Vec<f64> {
+        self.integ.atol[..self.st.n]
+            .iter()
+            .map(|a| self.params.atol / a)
+            .collect()
+    }
+
     /// The state a periodic-orbit search varies: the coordinates, then their rates.
     pub fn lateral_state(&self) -> Vec<f64> {
         self.integ.y().to_vec()

@@ -97,7 +97,7 @@ pub fn run_cli(args: &OrbitsArgs, fmu_dir: PathBuf) -> Result<(), Error> {
     // after a second of settling, naming a generated system file left in --out).
     let settings = args.bearing.settings().flag()?;
     settings.validate().flag()?;
-    settings.refuse_shaft("orbits").flag()?;
+    settings.check_shaft().flag()?;
     if !(args.settle.is_finite() && args.settle > 0.0) {
         return Err(Error::Flag(format!(
             "--settle {} s: must be a positive, finite time",

@@ -1,8 +1,9 @@
 //! The co-simulated rotor in its two air films as a [`Flow`] at constant speed: the period map
 //! the shooting works on is the co-simulation itself, run from a chosen start state.
 //!
-//! The state is the rotor's lateral state (16 values: rotor centre x, y, tilts, ring positions,
-//! and their rates; `fmu_rotor::rotor::LATERAL_COORDS`). A flow restores a base checkpoint of
+//! The state is the rotor's lateral state (the rigid rotor's 16 values: rotor centre x, y,
+//! tilts, ring positions, and their rates, `fmu_rotor::rotor::LATERAL_COORDS`; a flexible
+//! rotor's reduced coordinates and rings, and their rates). A flow restores a base checkpoint of
 //! the whole system (FMU states and the algorithm's coupling history), puts the start state
 //! into the rotor's FMU state (decoded, the rotor restarted there, encoded again: FMU state
 //! get/set is what makes the period map a function of the start state), restarts the input
@@ -17,14 +18,12 @@ use crate::runup::RunupSettings;
 use cosim::algorithm::{AlgorithmState, CoSim};
 use fmi_core::model::{Model, Store};
 use fmu_airfilm::shell::AirFilmFmu;
-use fmu_rotor::rotor::LATERAL_COORDS;
 use fmu_rotor::shell::RotorFmu;
 use std::path::Path;
 
-/// Lateral state length.
-pub const N_LATERAL: usize = 2 * LATERAL_COORDS.len();
-
 pub struct RotorFilmFlow {
+    /// The lateral state's length (16 for the rigid rotor).
+    n_lateral: usize,
     cosim: CoSim,
     rotor: usize,
     films: [usize; 2],
@@ -144,6 +143,11 @@ impl RotorFilmFlow {
         }
         check_autonomous(settings)?;
         let mut s = settings.clone();
+        if let (Some(shaft), None) = (&s.shaft, &s.rotor_fmu) {
+            s.rotor_fmu = Some(crate::runup::shaft_fmu::rotor_fmu_with_shaft(
+                fmu_dir, shaft,
+            )?);
+        }
         s.speed_profile = vec![(0.0, speed_hz), (1.0, speed_hz)];
         s.disturbance_mn = 0.0;
         s.stop_time_s = 1e3;
@@ -179,22 +183,30 @@ impl RotorFilmFlow {
             let p = s.rotor_params()?;
             (p.z_jt_m - p.z_jc_m).abs().max(1e-3)
         };
-        // Typical magnitudes: a clearance, the tilt that moves a journal by one, and both at a
-        // whirl of 500 Hz.
-        let w = 2.0 * std::f64::consts::PI * 500.0;
-        let pos = [c, c, c / span_m, c / span_m, c, c, c, c];
-        let scale = pos
-            .iter()
-            .chain(pos.iter().map(|p| p * w).collect::<Vec<_>>().iter())
-            .copied()
-            .collect();
         let base = cosim.checkpoint().map_err(|e| e.to_string())?;
+        let rotor_shape = Store::from_info(&RotorFmu::info());
+        // Typical magnitudes: a clearance, the tilt that moves a journal by one (the rigid
+        // rotor) or a mode's share that does (a flexible one), and both at a whirl of 500 Hz.
+        let scale = {
+            let core = fmi_core::snapshot::deserialize::<RotorFmu>(
+                &base.1[rotor],
+                &rotor_guid,
+                &rotor_shape,
+            )?;
+            let m = core
+                .model
+                .as_ref()
+                .ok_or("the rotor's FMU state holds no model")?;
+            m.lateral_scales(c, span_m, 2.0 * std::f64::consts::PI * 500.0)
+        };
+        let n_lateral = scale.len();
         Ok(RotorFilmFlow {
+            n_lateral,
             cosim,
             rotor,
             films,
             rotor_guid,
-            rotor_shape: Store::from_info(&RotorFmu::info()),
+            rotor_shape,
             film_guids,
             film_shape: Store::from_info(&AirFilmFmu::info()),
             base,
@@ -205,6 +217,11 @@ impl RotorFilmFlow {
             flows: 0,
             macro_steps: 0,
         })
+    }
+
+    /// The lateral state's length.
+    pub fn n_lateral(&self) -> usize {
+        self.n_lateral
     }
 
     /// Nominal clearance per bearing (C, T) [m].
@@ -385,9 +402,14 @@ impl RotorFilmFlow {
     /// Restores the base with the rotor at `x0` and, if given, the films restarted with these
     /// pressure fields (C, T).
     pub fn start_with(&mut self, x0: &[f64], pressures: Option<[&[f64]; 2]>) -> Result<(), String> {
-        let lateral: [f64; N_LATERAL] = x0
-            .try_into()
-            .map_err(|_| format!("a lateral state has {N_LATERAL} values, not {}", x0.len()))?;
+        if x0.len() != self.n_lateral {
+            return Err(format!(
+                "a lateral state has {} values, not {}",
+                self.n_lateral,
+                x0.len()
+            ));
+        }
+        let lateral = x0;
         let (state, mut blobs) = self.base.clone();
         if let Some(p) = pressures {
             for b in 0..2 {
@@ -416,7 +438,7 @@ impl RotorFilmFlow {
             .as_mut()
             .ok_or("the rotor's FMU state holds no model")?;
         model
-            .restart_constant_speed(&lateral, self.speed_hz)
+            .restart_constant_speed(lateral, self.speed_hz)
             .map_err(|e| e.to_string())?;
         model.write_outputs(&mut core.store);
         blobs[self.rotor] = fmi_core::snapshot::serialize(&core, &self.rotor_guid);
@@ -499,7 +521,7 @@ impl RotorFilmFlow {
 
 impl Flow for RotorFilmFlow {
     fn dim(&self) -> usize {
-        N_LATERAL
+        self.n_lateral
     }
     fn scale(&self) -> Vec<f64> {
         self.scale.clone()

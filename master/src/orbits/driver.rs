@@ -258,7 +258,7 @@ pub fn shoot_full_state(
     let found = shoot_krylov(&mut full, &x0, period_s, &kopts)?;
     let measures = full.measures(&found.orbit.x0, found.orbit.period_s)?;
     let mut orbit = found.orbit;
-    orbit.x0.truncate(super::cosim_flow::N_LATERAL);
+    orbit.x0.truncate(full.inner.n_lateral());
     Ok((orbit, measures))
 }
 

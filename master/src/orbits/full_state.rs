@@ -9,7 +9,7 @@
 //! The boundary nodes (p = p_a) are left out: the film never changes them, so a perturbation
 //! of one would stay for ever (a spurious Floquet multiplier 1 per node).
 
-use super::cosim_flow::{RotorFilmFlow, N_LATERAL};
+use super::cosim_flow::RotorFilmFlow;
 use super::shooting::Flow;
 
 /// Typical magnitude of a scaled film pressure (p / p_a) in the shooting's scaled unknowns:
@@ -54,7 +54,7 @@ impl<'a> FullStateFlow<'a> {
     /// Both films' whole pressure fields from a full state.
     fn unpack(&self, x: &[f64]) -> [Vec<f64>; 2] {
         let mut p = self.base_pressures.clone();
-        let mut k = N_LATERAL;
+        let mut k = self.inner.n_lateral();
         for b in 0..2 {
             for &i in &self.free[b] {
                 p[b][i] = x[k];
@@ -67,7 +67,7 @@ impl<'a> FullStateFlow<'a> {
 
 impl Flow for FullStateFlow<'_> {
     fn dim(&self) -> usize {
-        N_LATERAL + self.free[0].len() + self.free[1].len()
+        self.inner.n_lateral() + self.free[0].len() + self.free[1].len()
     }
 
     fn scale(&self) -> Vec<f64> {
@@ -86,7 +86,7 @@ impl Flow for FullStateFlow<'_> {
         }
         let p = self.unpack(x0);
         self.inner
-            .start_with(&x0[..N_LATERAL], Some([&p[0], &p[1]]))?;
+            .start_with(&x0[..self.inner.n_lateral()], Some([&p[0], &p[1]]))?;
         let free = self.free.clone();
         self.inner.states_at(at_s, &|f: &RotorFilmFlow| {
             let p = f.pressures_now()?;
@@ -100,9 +100,11 @@ impl Flow for FullStateFlow<'_> {
 
     fn measures(&mut self, x0: &[f64], period_s: f64) -> Result<Vec<(String, f64)>, String> {
         let p = self.unpack(x0);
-        let m = self
-            .inner
-            .orbit_measures_with(&x0[..N_LATERAL], Some([&p[0], &p[1]]), period_s)?;
+        let m = self.inner.orbit_measures_with(
+            &x0[..self.inner.n_lateral()],
+            Some([&p[0], &p[1]]),
+            period_s,
+        )?;
         Ok(super::cosim_flow::measures_list(&m))
     }
 }

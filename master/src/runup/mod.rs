@@ -89,9 +89,9 @@ pub struct RunupSettings {
     /// ("film.eta", "1.9e-5 Pa.s"); applied after, and in place of, the parameters above
     /// (`crate::fmu_params`).
     pub fmu_parameters: Vec<(String, String)>,
-    /// The design file's `[shaft]`: a flexible rotor. Run-ups (and the sweeps of run-ups)
-    /// co-simulate it in the rotor FMU that carries it (`shaft_fmu`); orbits and a study's
-    /// linear map refuse it.
+    /// The design file's `[shaft]`: a flexible rotor. Run-ups (and the sweeps of run-ups) and
+    /// orbits co-simulate it in the rotor FMU that carries it (`shaft_fmu`); a study's linear
+    /// map refuses it.
     #[serde(skip)]
     pub shaft: Option<crate::design::shaft::ShaftSpec>,
     /// The rotor FMU of a flexible rotor (`shaft_fmu::rotor_fmu_with_shaft`), set by the command
@@ -332,9 +332,9 @@ impl RunupSettings {
     pub fn refuse_shaft(&self, what: &str) -> Result<(), String> {
         match (&self.shaft, &self.design) {
             (Some(_), design) => Err(format!(
-                "{}[shaft] describes a flexible rotor: `airring runup`, `airring stability` and \
-                 `airring modal --rotor` take it; {what} work on the paper's rigid rotor \
-                 (remove [shaft] for them)",
+                "{}[shaft] describes a flexible rotor: `airring runup`, `orbits`, `stability` \
+                 and `modal --rotor` take it; {what} work on the paper's rigid rotor (remove \
+                 [shaft] for them)",
                 design
                     .as_ref()
                     .map_or(String::new(), |p| format!("{}: ", p.display()))

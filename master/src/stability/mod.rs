@@ -214,6 +214,12 @@ pub fn analyse_with_equilibria(
     s: &RunupSettings,
     speeds_hz: &[f64],
 ) -> Result<(StabilityReport, Vec<[SolvedBearing; 2]>), String> {
+    // A design's flexible rotor is analysed as such wherever the settings go (an optimisation's
+    // linear stage, a study's prediction), never as the rigid rotor it replaces.
+    if let Some(shaft) = &s.shaft {
+        return analyse_flexible(s, shaft.model.clone(), shaft.bearing_nodes, speeds_hz)
+            .map(|(r, solved, _)| (r, solved));
+    }
     let t0 = std::time::Instant::now();
     let (rotor, films) = checked_params(s, speeds_hz)?;
     analyse_rotor(&rotor, &films, s, speeds_hz, t0)
