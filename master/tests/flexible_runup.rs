@@ -158,3 +158,53 @@ fn a_stiff_shafts_orbit_is_the_rigid_rotors() {
         );
     }
 }
+
+/// A study's linear map of a flexible rotor: the stiff shaft's predicted threshold speeds are the
+/// rigid rotor's (within 1 %), cell by cell.
+#[test]
+fn a_stiff_shafts_linear_map_is_the_rigid_rotors() {
+    let dir = common::tmp("flexible_runup", "linear_map");
+    std::fs::create_dir_all(&dir).unwrap();
+    let design = concat!(env!("CARGO_MANIFEST_DIR"), "/../studies/stiff_shaft.toml");
+    let mut thresholds = vec![];
+    for (name, fixed) in [
+        ("rigid", String::new()),
+        ("flexible", format!("design = \"{design}\"\n")),
+    ] {
+        let study = dir.join(format!("{name}.toml"));
+        std::fs::write(
+            &study,
+            format!(
+                "name = \"{name}\"\n[fixed]\npreset = \"path1\"\n{fixed}\n[[grid]]\n\
+                 cases = [{{ clearance = 20, dh = 40 }}]\nc = [500, 1500]\n"
+            ),
+        )
+        .unwrap();
+        let out = dir.join(name);
+        let (ok, err) = airring(&[
+            "sweep",
+            study.to_str().unwrap(),
+            "--linear",
+            "--speeds",
+            "200:2000:100",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(ok, "{name}: {err}");
+        let csv = std::fs::read_to_string(out.join("study_linear.csv")).unwrap();
+        let t: Vec<f64> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').nth(1).unwrap().parse::<f64>().unwrap())
+            .collect();
+        assert_eq!(t.len(), 2, "{csv}");
+        thresholds.push(t);
+    }
+    println!(
+        "thresholds: rigid {:?}, stiff shaft {:?}",
+        thresholds[0], thresholds[1]
+    );
+    for (r, f) in thresholds[0].iter().zip(&thresholds[1]) {
+        assert!((r - f).abs() <= 0.01 * r, "{r} {f}");
+    }
+}

@@ -327,22 +327,6 @@ impl RunupSettings {
             })
     }
 
-    /// A design with a `[shaft]` (a flexible rotor) refused by what co-simulates the rigid rotor
-    /// (`what`: "run-ups", "orbits", ...), rather than run without its shaft.
-    pub fn refuse_shaft(&self, what: &str) -> Result<(), String> {
-        match (&self.shaft, &self.design) {
-            (Some(_), design) => Err(format!(
-                "{}[shaft] describes a flexible rotor: `airring runup`, `orbits`, `stability` \
-                 and `modal --rotor` take it; {what} work on the paper's rigid rotor (remove \
-                 [shaft] for them)",
-                design
-                    .as_ref()
-                    .map_or(String::new(), |p| format!("{}: ", p.display()))
-            )),
-            (None, _) => Ok(()),
-        }
-    }
-
     /// The air films' and the rotor's own checks of the parameters they will get; a refusal of
     /// a value the design file set names the file and its entry.
     pub fn validate_fmu_parameters(&self) -> Result<(), String> {

@@ -61,7 +61,7 @@ pub fn settings_for(
     s.f_max_hz = num("f_max")?.unwrap_or(s.f_max_hz);
     s.t_ramp_s = num("t_ramp")?.unwrap_or(s.t_ramp_s);
     s.validate()?;
-    s.refuse_shaft("a study's linear map")?;
+    s.check_shaft()?;
     Ok(s)
 }
 
@@ -220,7 +220,9 @@ pub(crate) fn predict_point(
             ));
         }
         let report = stability::analyse(&s, &grid)?;
-        if let Some(cache) = cache {
+        // The calm plans' cache is keyed by the rigid rotor's parameters (and only rigid run-ups
+        // take calm steps): a flexible rotor's damping must not be found there under them.
+        if let (Some(cache), None) = (cache, &s.shaft) {
             keep_for_calm_plans(cache, &s, &report);
         }
         Ok((s, report))
