@@ -271,6 +271,30 @@ fn a_search_interrupted_or_killed_resumes_to_the_same_evaluations() {
     assert!(ok, "{err}");
     let a = evaluations(&whole);
     assert_eq!(a.len(), 8);
+    // Killed after its last round was recorded and before its pending batch was removed: the
+    // batch is not evaluated again.
+    let stale = base.join("stale");
+    std::fs::create_dir_all(&stale).unwrap();
+    for f in ["optimization.toml", "evaluations.jsonl", "evaluations.csv"] {
+        std::fs::copy(whole.join(f), stale.join(f)).unwrap();
+    }
+    let last: Vec<&serde_json::Value> = a[6..].iter().map(|e| &e["asked"]).collect();
+    std::fs::write(
+        stale.join("pending_batch.json"),
+        serde_json::json!({ "first": 6, "asked": last }).to_string(),
+    )
+    .unwrap();
+    let (ok, err) = airring(&[
+        "optimize",
+        f,
+        "--out",
+        stale.to_str().unwrap(),
+        "--no-verify",
+        "--quiet",
+    ]);
+    assert!(ok, "{err}");
+    assert_eq!(evaluations(&stale), a, "a recorded round evaluated again");
+    assert!(!stale.join("pending_batch.json").exists());
     for (signal, name) in [(libc::SIGINT, "SIGINT"), (libc::SIGKILL, "SIGKILL")] {
         let stopped = base.join(name);
         let at = stop_in_a_round(f, &stopped, signal);

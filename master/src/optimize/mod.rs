@@ -113,12 +113,18 @@ pub fn optimize(p: &Problem, text: &str, opts: &OptimizeOptions) -> Result<Outco
     // A round left unfinished (interrupted, or waiting for external run-ups) continues with its
     // own candidates before the search asks anew.
     let mut searched: Result<(), String> = Ok(());
-    if let Some(xs) = read_pending(&opts.out.join(PENDING), p) {
-        if candidates.len() + xs.len() <= p.budget {
+    if let Some((first, xs)) = read_pending(&opts.out.join(PENDING), p) {
+        // Candidates of the round already recorded (a process killed after recording its
+        // round and before removing this file, or in between): the rest of it is what is left.
+        let recorded = first.map_or(0, |f| candidates.len().saturating_sub(f));
+        let xs = &xs[recorded.min(xs.len())..];
+        if xs.is_empty() {
+            let _ = std::fs::remove_file(opts.out.join(PENDING));
+        } else if candidates.len() + xs.len() <= p.budget {
             searched = run_round(
                 p,
                 &base_values,
-                &xs,
+                xs,
                 &mut candidates,
                 &mut runner,
                 &mut round,
@@ -244,7 +250,11 @@ fn run_round(
         }
     }
     // The points as asked (not rounded): a resumed round gives the search the same points.
-    let asked = serde_json::to_string(asked_xs).map_err(|e| e.to_string())?;
+    let asked = serde_json::to_string(&PendingBatch {
+        first,
+        asked: asked_xs.to_vec(),
+    })
+    .map_err(|e| e.to_string())?;
     crate::output::write_whole(&opts.out.join(PENDING), asked.as_bytes())?;
     let evaluated = evaluate_batch(p, base_values, &fresh, first, runner)?;
     let mut batch: Vec<Candidate> = vec![];
@@ -587,10 +597,24 @@ pub(crate) fn write_for_others(
     Ok((open > 0).then_some(open))
 }
 
-/// The batch an unfinished round asked for, if its file is there and fits the problem.
-fn read_pending(path: &Path, p: &Problem) -> Option<Vec<Vec<f64>>> {
-    let xs: Vec<Vec<f64>> = serde_json::from_str(&std::fs::read_to_string(path).ok()?).ok()?;
-    (!xs.is_empty() && xs.iter().all(|x| x.len() == p.dim())).then_some(xs)
+/// What `pending_batch.json` holds: the points a round asked for and the index of its first
+/// candidate.
+#[derive(serde::Serialize, serde::Deserialize)]
+struct PendingBatch {
+    first: usize,
+    asked: Vec<Vec<f64>>,
+}
+
+/// The batch an unfinished round asked for and its first candidate's index, if its file is
+/// there and fits the problem (a file of earlier versions, the bare points: its round starts
+/// after the candidates recorded, `None`).
+fn read_pending(path: &Path, p: &Problem) -> Option<(Option<usize>, Vec<Vec<f64>>)> {
+    let text = std::fs::read_to_string(path).ok()?;
+    let (first, xs) = match serde_json::from_str::<PendingBatch>(&text) {
+        Ok(b) => (Some(b.first), b.asked),
+        Err(_) => (None, serde_json::from_str::<Vec<Vec<f64>>>(&text).ok()?),
+    };
+    (!xs.is_empty() && xs.iter().all(|x| x.len() == p.dim())).then_some((first, xs))
 }
 
 /// The study (and its file's text) of run-up cases: every case with the `fixed` keys (its speed
