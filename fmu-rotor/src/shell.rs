@@ -711,7 +711,7 @@ impl Model for RotorFmu {
         ModelInfo {
             model_name: "rotor",
             model_identifier: "rotor",
-            description: "Rigid turbo-compressor rotor with two visco-elastically mounted bearing rings (GGL stabilized index-2 multibody model)",
+            description: "Turbo-compressor rotor with two visco-elastically mounted bearing rings: rigid (GGL stabilized index-2 multibody model), or a flexible shaft where resources/shaft.json holds one (Timoshenko elements, Craig-Bampton reduction)",
             version: env!("CARGO_PKG_VERSION"),
             variables,
             log_categories: vec![
