@@ -286,7 +286,7 @@ pub fn drawing_with_bearings(model: &ShaftModel, bearing_nodes: [usize; 2]) -> C
     for (node, tag) in bearing_nodes.into_iter().zip(["C", "T"]) {
         m.rings.push(Ring {
             node,
-            mass_kg: 1.0,
+            mass_kg: 0.0,
             mount_k_n_m: 0.0,
             mount_c_n_s_m: 0.0,
             film_k_n_m: [[0.0; 2]; 2],

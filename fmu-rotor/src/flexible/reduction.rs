@@ -103,12 +103,7 @@ pub fn analyse(
     // lowest modes are its largest eigenvalues, computed to full relative accuracy however
     // stiff the highest ones are.
     let l = llt.L();
-    let mut a = m_ii.clone();
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::Seq);
-    let mut a = a.transpose().to_owned();
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::Seq);
-    let a = Mat::<f64>::from_fn(ni, ni, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
-    let evd = a
+    let evd = inverse_congruence(l, m_ii.as_ref())
         .self_adjoint_eigen(Side::Lower)
         .map_err(|_| "the fixed-interface eigenproblem did not converge".to_string())?;
     let (s, u) = (evd.S(), evd.U());
@@ -325,19 +320,24 @@ pub fn full_frequencies_hz(
     natural_frequencies_hz(nf, &mm.m, &k_full)
 }
 
+/// L^-1 M L^-T for the Cholesky factor L of a stiffness matrix, exactly symmetric: its
+/// eigenvalues are 1 / omega^2 of K x = omega^2 M x, the lowest modes its largest.
+fn inverse_congruence(l: MatRef<'_, f64>, m: MatRef<'_, f64>) -> Mat<f64> {
+    let n = m.nrows();
+    let mut a = m.to_owned();
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::Seq);
+    let mut a = a.transpose().to_owned();
+    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::Seq);
+    Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]))
+}
+
 /// Ascending natural frequencies [Hz] of K x = w^2 M x (K positive definite).
 pub fn natural_frequencies_hz(n: usize, m: &[f64], k: &[f64]) -> Result<Vec<f64>, String> {
     let km = mat(n, k).to_owned();
     let llt = km
         .llt(Side::Lower)
         .map_err(|_| "the stiffness matrix is not positive definite".to_string())?;
-    let l = llt.L();
-    let mut a = mat(n, m).to_owned();
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::Seq);
-    let mut a = a.transpose().to_owned();
-    faer::linalg::triangular_solve::solve_lower_triangular_in_place(l, a.as_mut(), faer::Par::Seq);
-    let a = Mat::<f64>::from_fn(n, n, |i, j| 0.5 * (a[(i, j)] + a[(j, i)]));
-    let mu = a
+    let mu = inverse_congruence(llt.L(), mat(n, m))
         .self_adjoint_eigenvalues(Side::Lower)
         .map_err(|_| "the eigenproblem did not converge".to_string())?;
     let mut f: Vec<f64> = mu

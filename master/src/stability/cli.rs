@@ -252,7 +252,7 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, Error> {
         )),
         (None, None) => None,
     };
-    let mut drawing: Option<shaft::ShaftModel> = None;
+    let mut drawing: Option<crate::plot::Chart> = None;
     let mut flexible: Option<super::structure::FlexibleRotor> = None;
     let (r, solved) = match from_file {
         Some((file, mut model, nodes, mut notes)) => {
@@ -290,21 +290,7 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, Error> {
                 "mass_kg": model.mass_kg(), "bearing_nodes": nodes, "notes": notes,
             });
             // The rotor as drawn (rotor.svg): its air ring bearings at their nodes.
-            let mut drawn = model.clone();
-            drawn.rings = nodes
-                .iter()
-                .zip(["C", "T"])
-                .map(|(&node, tag)| shaft::Ring {
-                    node,
-                    mass_kg: 0.0,
-                    mount_k_n_m: 0.0,
-                    mount_c_n_s_m: 0.0,
-                    film_k_n_m: [[0.0; 2]; 2],
-                    film_c_n_s_m: [[0.0; 2]; 2],
-                    tag: tag.into(),
-                })
-                .collect();
-            drawing = Some(drawn);
+            drawing = Some(crate::flexible::drawing_with_bearings(&model, nodes));
             let (r, solved, rotor) = super::analyse_flexible(&s, model, nodes, &speeds).run()?;
             flexible = Some(rotor);
             (r, solved)
@@ -381,9 +367,9 @@ pub fn run_cli(a: &StabilityArgs) -> Result<serde_json::Value, Error> {
         if let Some(u) = &unbalance {
             figs.extend(super::figures::save_unbalance(u, dir).output()?);
         }
-        if let Some(model) = &drawing {
+        if let Some(chart) = &drawing {
             figs.extend(
-                crate::flexible::rotor_drawing(model)
+                chart
                     .save(dir, "rotor")
                     .map_err(|e| Error::Output(format!("figures not written: {e}")))?,
             );
