@@ -139,12 +139,25 @@ fn test(quick: bool) -> Result<(), String> {
     pack::fmus(None)?;
     pack::descriptions(true)?;
     docs::check()?;
-    run("cargo test", cargo().args(["test", "--workspace"]))?;
     let py = venv_python()?;
+    // The tests' temporary folders (run folders, unpacked FMUs, the third-party masters' own
+    // scratch) go to one folder under the target directory, emptied before the tests and removed
+    // after a green run: a test that leaves its folder behind cannot fill the machine's /tmp
+    // over repeated runs. A red run keeps it for a look.
+    let tmp = target_dir().join("test-tmp");
+    let _ = std::fs::remove_dir_all(&tmp);
+    std::fs::create_dir_all(&tmp).map_err(|e| format!("{}: {e}", tmp.display()))?;
+    run(
+        "cargo test",
+        cargo().args(["test", "--workspace"]).env("TMPDIR", &tmp),
+    )?;
     run(
         "pytest",
-        Command::new(py).args(["-m", "pytest", "-q", "tests/python"]),
+        Command::new(py)
+            .args(["-m", "pytest", "-q", "tests/python"])
+            .env("TMPDIR", &tmp),
     )?;
+    let _ = std::fs::remove_dir_all(&tmp);
     Ok(())
 }
 
