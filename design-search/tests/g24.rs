@@ -7,11 +7,11 @@ use design_search::{best_feasible, search, Evaluation, Method, Scale, Variable};
 
 const OPTIMUM: f64 = -5.50801;
 
-fn g24(x: &[f64]) -> (f64, Vec<f64>) {
+fn g24(x: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let (a, b) = (x[0], x[1]);
     let c1 = -2.0 * a.powi(4) + 8.0 * a.powi(3) - 8.0 * a.powi(2) + b - 2.0;
     let c2 = -4.0 * a.powi(4) + 32.0 * a.powi(3) - 88.0 * a.powi(2) + 96.0 * a + b - 36.0;
-    (-a - b, vec![c1, c2])
+    (vec![-a - b], vec![c1, c2])
 }
 
 fn variables() -> Vec<Variable> {
@@ -22,7 +22,7 @@ fn variables() -> Vec<Variable> {
 }
 
 fn run(method: Method, budget: usize, done: Vec<Evaluation>) -> Vec<Evaluation> {
-    search(&variables(), 2, method, budget, done, |xs| {
+    search(&variables(), 1, 2, method, budget, done, |xs| {
         Ok(xs.iter().map(|x| g24(x)).collect())
     })
     .unwrap()
@@ -30,7 +30,7 @@ fn run(method: Method, budget: usize, done: Vec<Evaluation>) -> Vec<Evaluation> 
 
 /// The error of the best feasible point found (infinite if none).
 fn error(evals: &[Evaluation]) -> f64 {
-    best_feasible(evals).map_or(f64::INFINITY, |e| e.objective - OPTIMUM)
+    best_feasible(evals).map_or(f64::INFINITY, |e| e.objectives[0] - OPTIMUM)
 }
 
 const BUDGET: usize = 30;

@@ -1,7 +1,8 @@
 //! `airring runup --halt-film UM [--halt-speeds LO:HI]`: a run-up that ends where a film's minimum
 //! thickness first falls below the limit within the speed range (what a design search needs to
 //! know of a failing design), completed and halted, and the same series as the whole run up to
-//! there. End to end on the packed FMUs (`cargo xtask fmus` first).
+//! there; `--halt-whirl UM` the same where a whirl first grows beyond its limit. End to end on
+//! the packed FMUs (`cargo xtask fmus` first).
 
 mod common;
 
@@ -114,10 +115,104 @@ fn bad_halt_flags_are_refused_before_anything_runs() {
             vec!["--halt-film", "5", "--halt-speeds", "x"],
             "--halt-speeds 'x'",
         ),
-        (vec!["--halt-speeds", "1:2"], "--halt-film"),
+        (
+            vec!["--halt-speeds", "1:2"],
+            "needs --halt-film or --halt-whirl",
+        ),
+        (
+            vec!["--halt-whirl", "0"],
+            "--halt-whirl = 0 um must be a finite number > 0",
+        ),
     ] {
         let (ok, err) = airring(&[&["runup", "--quiet", "--out", o][..], &flags[..]].concat());
         assert!(!ok && err.contains(why), "{flags:?}: {err}");
         assert!(!out.exists(), "{flags:?}: nothing written");
     }
+}
+
+/// `--halt-whirl UM`: the run-up ends with the first whirl window (40 ms every 20 ms, the
+/// analysis' own) whose amplitude exceeds the limit within the speed range, at the sample that
+/// completes that window; up to there it is the whole run, sample for sample, and the analysis
+/// of what it recorded finds the amplitude that halted it.
+#[test]
+fn a_run_up_halts_where_its_whirl_first_exceeds_the_limit() {
+    use master::analysis::classify::{WHIRL_HOP_S, WHIRL_WINDOW_S};
+    use master::analysis::onset::{oscillation_track, window_samples};
+    use master::analysis::{load_run, Bearing};
+    let whole = common::tmp("halt", "whirl-whole");
+    let halted = common::tmp("halt", "whirl-halted");
+    // Path 1 whirls from about 740 Hz on; a quick ramp to 1000 Hz on a coarse mesh.
+    let base = [
+        "runup", "--preset", "path1", "--f-max", "1000", "--t-ramp", "1", "--mesh", "8x2",
+        "--quiet",
+    ];
+    let (ok, err) = airring(&[&base[..], &["--out", whole.to_str().unwrap()]].concat());
+    assert!(ok, "{err}");
+    let cl = RunSummary::read(&whole).unwrap().clearance_um.unwrap();
+    let series = load_run(&whole, [cl.c * 1e-6, cl.t * 1e-6]).unwrap();
+    let spin = series.spin();
+    let range = (600.0, 1000.0);
+    let tracks: Vec<_> = [Bearing::C, Bearing::T]
+        .into_iter()
+        .map(|b| oscillation_track(&series, b, &spin, WHIRL_WINDOW_S, WHIRL_HOP_S))
+        .collect();
+    let in_range = |t: f64| (range.0..=range.1).contains(&series.speed_hz_at(t));
+    let largest = tracks
+        .iter()
+        .flat_map(|k| k.t_s.iter().zip(&k.amp_m))
+        .filter(|(t, _)| in_range(**t))
+        .map(|(_, a)| *a)
+        .fold(0.0, f64::max);
+    assert!(largest > 2e-6, "the whole run whirls: {largest} m");
+    let limit_m = 0.5 * largest;
+    // The first window over the limit, by either bearing, and the sample that completes it.
+    let (n_win, hop) = window_samples(&series, WHIRL_WINDOW_S, WHIRL_HOP_S);
+    let k = (0..tracks[0].t_s.len())
+        .find(|&k| in_range(tracks[0].t_s[k]) && tracks.iter().any(|tr| tr.amp_m[k] > limit_m))
+        .expect("a window over the limit");
+    let last = k * hop + n_win - 1;
+    let limit_um = format!("{}", limit_m * 1e6);
+    let (ok, err) = airring(
+        &[
+            &base[..],
+            &["--halt-whirl", &limit_um, "--halt-speeds", "600:1000"],
+            &["--out", halted.to_str().unwrap()],
+        ]
+        .concat(),
+    );
+    assert!(ok, "a halted run-up is a success: {err}");
+    let s = RunSummary::read(&halted).unwrap();
+    assert_eq!(s.status, RunStatus::Completed);
+    let why = s.halted.clone().expect("summary.json says where it halted");
+    assert!(why.starts_with("whirl_") && why.contains(" um > "), "{why}");
+    let part = rows(&halted);
+    let all = rows(&whole);
+    assert_eq!(part.len(), last + 1, "{why}");
+    for (a, b) in part.iter().zip(&all) {
+        assert_eq!(
+            (a.0.to_bits(), a.1.to_bits()),
+            (b.0.to_bits(), b.1.to_bits())
+        );
+    }
+    assert_eq!(s.settings["halt_whirl_um"].as_f64(), Some(limit_m * 1e6));
+    // What the halted run recorded shows the amplitude that halted it, and none before it.
+    let series = load_run(&halted, [cl.c * 1e-6, cl.t * 1e-6]).unwrap();
+    let spin = series.spin();
+    let amps: Vec<f64> = [Bearing::C, Bearing::T]
+        .into_iter()
+        .map(|b| {
+            let tr = oscillation_track(&series, b, &spin, WHIRL_WINDOW_S, WHIRL_HOP_S);
+            assert_eq!(tr.amp_m.len(), k + 1);
+            for j in 0..k {
+                assert!(!in_range(tr.t_s[j]) || tr.amp_m[j] <= limit_m);
+            }
+            tr.amp_m[k]
+        })
+        .collect();
+    assert!(
+        amps.iter().any(|a| *a > limit_m),
+        "{amps:?} against {limit_m}"
+    );
+    let _ = std::fs::remove_dir_all(&whole);
+    let _ = std::fs::remove_dir_all(&halted);
 }

@@ -18,15 +18,21 @@ pub struct Args {
     pub parquet: bool,
 }
 
-/// The film halt of a run-up's settings (`halt_film_um`, `halt_speeds_hz` in summary.json).
-fn halt_of(settings: &serde_json::Value) -> Option<master::run::FilmHalt> {
-    let um = settings.get("halt_film_um")?.as_f64()?;
+/// The halt of a run-up's settings (`halt_film_um`, `halt_whirl_um`, `halt_speeds_hz` in
+/// summary.json).
+fn halt_of(settings: &serde_json::Value) -> Option<master::run::Halt> {
+    let um = |key: &str| settings.get(key).and_then(|v| v.as_f64());
+    let (film, whirl) = (um("halt_film_um"), um("halt_whirl_um"));
+    if film.is_none() && whirl.is_none() {
+        return None;
+    }
     let speeds = settings
         .get("halt_speeds_hz")
         .and_then(|v| Some((v.get(0)?.as_f64()?, v.get(1)?.as_f64()?)))
         .unwrap_or((0.0, f64::INFINITY));
-    Some(master::run::FilmHalt {
-        min_film_m: um * 1e-6,
+    Some(master::run::Halt {
+        min_film_m: film.map(|um| um * 1e-6),
+        max_whirl_m: whirl.map(|um| um * 1e-6),
         speeds_hz: speeds,
     })
 }

@@ -97,7 +97,7 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
         extra: serde_json::to_value(&s).unwrap_or_default(),
         bores: None,
         parquet: common.parquet,
-        halt: s.film_halt(),
+        halt: s.halt(),
         // A flexible rotor to scale (report.html shows it).
         figures: s
             .shaft

@@ -74,10 +74,14 @@ pub struct NonlinearResult {
     /// The largest whirl amplitude within the speed range [um].
     #[serde(deserialize_with = "nan_if_null")]
     pub whirl_um: f64,
-    /// The run-up halted at the film limit (`runup --halt-film`): where. Its film thickness,
-    /// whirl amplitude and class are those up to there.
+    /// The run-up halted at its film or whirl limit (`runup --halt-film`, `--halt-whirl`):
+    /// where. Its film thickness, whirl amplitude and class are those up to there.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub halted: Option<String>,
+    /// Of a halted run-up: the share of its run (run-up and run-down, by time) it did not
+    /// reach, 0 to 1. An early halt is a design far from meeting the requirement.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub unreached: Option<f64>,
     pub error: Option<String>,
 }
 
@@ -330,9 +334,22 @@ pub fn nonlinear_result(dir: &Path, run: &str, range_hz: (f64, f64)) -> Nonlinea
     };
     match summary {
         Some(s) if s.status == RunStatus::Completed => {
-            r.class = s.classification.clone();
+            // A halted run-up's class is that of its part before the halt (a whirl halted at
+            // its limit has not grown into its path yet): said so wherever it is shown.
+            r.class = match (&s.classification, &s.halted) {
+                (Some(c), Some(_)) => Some(format!("{c} (up to the halt)")),
+                (c, None) => c.clone(),
+                (None, Some(_)) => None,
+            };
             r.onset_hz = s.onset_speed_hz;
             r.halted = s.halted.clone();
+            if s.halted.is_some() {
+                let stop = s.settings.get("stop_time_s").and_then(|v| v.as_f64());
+                r.unreached = match (s.t_end_s, stop) {
+                    (Some(t), Some(stop)) if stop > 0.0 => Some((1.0 - t / stop).clamp(0.0, 1.0)),
+                    _ => None,
+                };
+            }
             match run_metrics(dir, range_hz) {
                 Ok((film, whirl)) => {
                     r.min_film_um = film;
@@ -370,11 +387,11 @@ pub fn nonlinear_decision(p: &Problem, n: &NonlinearResult) -> (bool, String) {
         }
     }
     let class = n.class.as_deref().unwrap_or("unclassified");
-    if !p.classes.is_empty() && !p.classes.iter().any(|c| c == class) {
+    if !p.classes.is_empty() && n.halted.is_none() && !p.classes.iter().any(|c| c == class) {
         why.push(format!("class {class} not allowed"));
     }
-    // A run that halted crossed the film limit, even where its series cannot show it (a film
-    // thickness that is not a number): never feasible on the part of a run.
+    // A run that halted crossed the film or whirl limit, even where its series cannot show it
+    // (a film thickness that is not a number): never feasible on the part of a run.
     if let (Some(h), true) = (&n.halted, why.is_empty()) {
         why.push(format!("halted: {h}"));
     }
@@ -389,7 +406,7 @@ pub fn nonlinear_decision(p: &Problem, n: &NonlinearResult) -> (bool, String) {
     } else if n.halted.is_some() {
         (
             false,
-            format!("{} (the run-up halted at the film limit)", why.join(", ")),
+            format!("{} (the run-up halted at a limit)", why.join(", ")),
         )
     } else {
         (false, format!("{} (run-up and run-down)", why.join(", ")))
@@ -475,8 +492,22 @@ pub fn summarize(p: &Problem, index: usize, x: Vec<f64>, corners: Vec<Corner>) -
         .map(|c| c.linear.threshold_hz.unwrap_or(top).min(top))
         .reduce(f64::min);
     let power_loss_w = corners.first().map_or(f64::NAN, |c| c.linear.power_loss_w);
-    let film_c = 1.0 - min_film_um / p.min_film_um;
-    let whirl_c = p.max_whirl_um.map(|lim| whirl_um / lim - 1.0);
+    // A corner halted at a limit measured its film or whirl only up to the halt, just beyond
+    // the limit whatever the design: its constraint adds the share of the run it did not reach,
+    // so that the surrogates see a design failing early as farther from safe than one failing
+    // late (and an unexplored region beyond failing designs as unsafe).
+    let unreached = |which: &str| -> f64 {
+        corners
+            .iter()
+            .filter_map(|c| c.nonlinear.as_ref())
+            .filter(|n| n.halted.as_deref().is_some_and(|h| h.starts_with(which)))
+            .filter_map(|n| n.unreached)
+            .fold(0.0, f64::max)
+    };
+    let film_c = 1.0 - min_film_um / p.min_film_um + unreached("film_");
+    let whirl_c = p
+        .max_whirl_um
+        .map(|lim| whirl_um / lim - 1.0 + unreached("whirl_"));
     let class_c = (!p.classes.is_empty()).then(|| {
         let allowed = corners
             .iter()
@@ -613,6 +644,7 @@ mod tests {
             min_film_um: film,
             whirl_um: whirl,
             halted: None,
+            unreached: None,
             error: None,
         };
         let good = corner("nominal", linear(Some(1100.0), 5.0), Some(run(3.0, 0.5)));
@@ -646,13 +678,37 @@ mod tests {
         };
         let (pass, why) = nonlinear_decision(&p, &halted(1.5));
         assert!(
-            !pass && why == "film 1.50 um below 2 um (the run-up halted at the film limit)",
+            !pass && why == "film 1.50 um below 2 um (the run-up halted at a limit)",
             "{why}"
         );
         let (pass, why) = nonlinear_decision(&p, &halted(3.0));
         assert!(
             !pass && why.starts_with("halted: film_T.h_min = NaN um"),
             "{why}"
+        );
+        // A corner halted early counts as farther from safe: its constraint adds the share of
+        // the run it did not reach (here the whirl's, 2.5 of 1 um, halted with 40 % to go).
+        let whirled = NonlinearResult {
+            halted: Some("whirl_C = 2.5 um > 1 um at 900 Hz (t = 1.3 s)".into()),
+            unreached: Some(0.4),
+            ..run(3.0, 2.5)
+        };
+        let c = summarize(
+            &p,
+            2,
+            vec![20.0],
+            vec![corner("nominal", linear(Some(800.0), 5.0), Some(whirled))],
+        );
+        assert!(!c.feasible);
+        assert!(
+            (c.constraints[1] - (2.5 - 1.0 + 0.4)).abs() < 1e-12,
+            "{:?}",
+            c.constraints
+        );
+        assert!(
+            (c.constraints[0] - (1.0 - 3.0 / 2.0)).abs() < 1e-12,
+            "{:?}",
+            c.constraints
         );
     }
 

@@ -76,11 +76,11 @@ pub fn optimize(p: &Problem, text: &str, opts: &OptimizeOptions) -> Result<Outco
     let mut candidates = read_evaluations(&opts.out.join(EVALUATIONS), p)?;
     if !opts.quiet {
         eprintln!(
-            "optimize '{}': {} variables, {} tolerance corners per candidate, budget {}, {} \
-             evaluated before -> {}",
+            "optimize '{}': {} variables, {} corners per candidate (nominal and tolerance box), \
+             budget {}, {} evaluated before -> {}",
             p.name,
             p.dim(),
-            (1usize << p.tolerances.len()) + 1,
+            p.corner_count(),
             p.budget,
             candidates.len(),
             opts.out.display()
@@ -137,16 +137,24 @@ pub fn optimize(p: &Problem, text: &str, opts: &OptimizeOptions) -> Result<Outco
     if searched.is_ok() {
         let done: Vec<design_search::Evaluation> =
             candidates.iter().map(|c| as_search(p, c)).collect();
-        searched = design_search::search(&variables, n_constraints, method, p.budget, done, |xs| {
-            run_round(
-                p,
-                &base_values,
-                xs,
-                &mut candidates,
-                &mut runner,
-                &mut round,
-            )
-        })
+        searched = design_search::search(
+            &variables,
+            p.objectives.len(),
+            n_constraints,
+            method,
+            p.budget,
+            done,
+            |xs| {
+                run_round(
+                    p,
+                    &base_values,
+                    xs,
+                    &mut candidates,
+                    &mut runner,
+                    &mut round,
+                )
+            },
+        )
         .map(|_| ());
     }
     let pending = runner.pending.take();
@@ -225,7 +233,7 @@ fn run_round(
     candidates: &mut Vec<Candidate>,
     runner: &mut RunUps,
     round: &mut usize,
-) -> Result<Vec<(f64, Vec<f64>)>, String> {
+) -> Result<Vec<design_search::Outcome>, String> {
     let opts = runner.opts;
     *round += 1;
     let first = candidates.len();
@@ -282,7 +290,7 @@ fn run_round(
     let evaluations = batch
         .iter()
         .map(|c| as_search(p, c))
-        .map(|e| (e.objective, e.constraints))
+        .map(|e| (e.objectives, e.constraints))
         .collect();
     append_evaluations(&opts.out.join(EVALUATIONS), &batch)?;
     let _ = std::fs::remove_file(opts.out.join(PENDING));
@@ -341,9 +349,8 @@ pub fn constraint_count(p: &Problem) -> usize {
     1 + usize::from(p.max_whirl_um.is_some()) + usize::from(!p.classes.is_empty())
 }
 
-/// A candidate as the search holds it: the first objective, to minimise, and the constraints.
-fn as_search(p: &Problem, c: &Candidate) -> design_search::Evaluation {
-    let o = &p.objectives[0];
+/// A candidate as the search holds it: the objectives, to minimise, and the constraints.
+pub(crate) fn as_search(p: &Problem, c: &Candidate) -> design_search::Evaluation {
     design_search::Evaluation {
         // The point the search asked for (candidates of earlier versions: the rounded one).
         x: if c.asked.is_empty() {
@@ -351,7 +358,12 @@ fn as_search(p: &Problem, c: &Candidate) -> design_search::Evaluation {
         } else {
             c.asked.clone()
         },
-        objective: evaluate::to_minimise(o, c.objectives[0]),
+        objectives: p
+            .objectives
+            .iter()
+            .zip(&c.objectives)
+            .map(|(o, &v)| evaluate::to_minimise(o, v))
+            .collect(),
         constraints: c.constraints.clone(),
     }
 }
@@ -520,21 +532,25 @@ impl RunUps<'_> {
         }
     }
 
-    /// The keys every run-up of the search shares: the run-up and run-down, and the halt at
-    /// the film limit within the speed range: a run-up whose film falls below the limit has
-    /// decided its corner (it fails), and the rest of it (the whirl after onset, the run-down)
-    /// is the slow part.
+    /// The keys every run-up of the search shares: the run-up and run-down, and the halts at
+    /// the film limit and the whirl limit within the speed range: a run-up whose film falls
+    /// below its limit, or whose whirl grows beyond its limit, has decided its corner (it
+    /// fails), and the rest of it (the whirl after onset, the run-down) is the slow part.
     fn fixed(&self) -> BTreeMap<String, String> {
         let t = self.p.t_ramp_s;
         let (lo, hi) = self.p.speed_range_hz;
-        BTreeMap::from([
+        let mut keys = BTreeMap::from([
             (
                 "profile".to_string(),
                 format!("0:0,{t}:{f},{t2}:0", f = self.f_max_hz, t2 = 2.0 * t),
             ),
             ("halt_film".to_string(), self.p.min_film_um.to_string()),
             ("halt_speeds".to_string(), format!("{lo}:{hi}")),
-        ])
+        ]);
+        if let Some(um) = self.p.max_whirl_um {
+            keys.insert("halt_whirl".to_string(), um.to_string());
+        }
+        keys
     }
 
     /// Runs the cases `wanted` (with all earlier ones in the study) and returns each one's

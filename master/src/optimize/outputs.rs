@@ -365,10 +365,50 @@ fn cross(c: &mut Chart, (x, y): (f64, f64), color: Rgb, size: f64, name: &str) {
     );
 }
 
+/// The surrogates' verdict on a design: safe or unsafe with a probability of feasibility beyond
+/// `CERTAIN` either way, uncertain in between (the boundary of the safe set lies there).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Verdict {
+    Safe,
+    Uncertain,
+    Unsafe,
+}
+
+/// How sure the surrogates must be to call a design safe or unsafe.
+pub const CERTAIN: f64 = 0.9;
+
+/// The constraint surrogates' verdicts at `points` (own units), fitted to every candidate as the
+/// search fits them; `None` where they cannot be fitted (fewer than two candidates).
+pub fn surrogate_verdicts(
+    p: &Problem,
+    candidates: &[Candidate],
+    points: &[Vec<f64>],
+) -> Option<Vec<Verdict>> {
+    let variables: Vec<design_search::Variable> =
+        p.variables.iter().map(|v| v.bounds.clone()).collect();
+    let evals: Vec<design_search::Evaluation> =
+        candidates.iter().map(|c| super::as_search(p, c)).collect();
+    let pred =
+        design_search::safe_set(&variables, &evals, super::constraint_count(p), points).ok()?;
+    Some(
+        pred.iter()
+            .map(|q| {
+                if q.p_feasible >= CERTAIN {
+                    Verdict::Safe
+                } else if q.p_feasible <= 1.0 - CERTAIN {
+                    Verdict::Unsafe
+                } else {
+                    Verdict::Uncertain
+                }
+            })
+            .collect(),
+    )
+}
+
 /// The safe set in 2-D slices through the recommended design: every evaluated candidate by its
-/// two variables (green feasible, red not), the recommendation in blue, the background shaded
-/// by the nearest evaluated candidate's verdict in the slice's two variables (an estimate of the
-/// boundary between the evaluated points, not an evaluation). One variable: the worst film
+/// two variables (green feasible, red not), the recommendation in blue, the background shaded by
+/// the search's constraint surrogates (safe, unsafe, or uncertain where the boundary lies: an
+/// estimate between the evaluated points, not an evaluation). One variable: the worst film
 /// thickness against it, with the limit.
 pub fn safe_set_maps(
     p: &Problem,
@@ -452,29 +492,56 @@ pub fn safe_set_maps(
             (vi.bounds.lo, vi.bounds.hi),
             (vj.bounds.lo, vj.bounds.hi),
         );
-        // Background: the nearest evaluated candidate's verdict (in the unit square).
-        let known: Vec<(f64, f64, bool)> = candidates
-            .iter()
-            .map(|k| (vi.bounds.unit(k.x[i]), vj.bounds.unit(k.x[j]), k.feasible))
-            .collect();
+        // Background: what the search's constraint surrogates make of the slice (the other
+        // variables at the recommendation's values), or, where they cannot be fitted, the
+        // nearest evaluated candidate's verdict.
         let (cols, rows) = (90usize, 64usize);
-        let mut rgb = Vec::with_capacity(cols * rows * 3);
+        let through = best.map_or_else(|| candidates[0].x.clone(), |b| candidates[b].x.clone());
+        let mut points = Vec::with_capacity(cols * rows);
+        // Cells evenly spaced on the chart's (linear) axes, top row first.
         for r in 0..rows {
             let y = c.y.1 - (c.y.1 - c.y.0) * (r as f64 + 0.5) / rows as f64;
             for col in 0..cols {
                 let x = c.x.0 + (c.x.1 - c.x.0) * (col as f64 + 0.5) / cols as f64;
-                let (ux, uy) = (vi.bounds.unit(x.max(1e-300)), vj.bounds.unit(y.max(1e-300)));
-                let ok = known
-                    .iter()
-                    .min_by(|a, b| {
-                        let da = (a.0 - ux).powi(2) + (a.1 - uy).powi(2);
-                        let db = (b.0 - ux).powi(2) + (b.1 - uy).powi(2);
-                        da.total_cmp(&db)
-                    })
-                    .is_some_and(|k| k.2);
-                rgb.extend(if ok { [225, 243, 228] } else { [248, 226, 226] });
+                let mut at = through.clone();
+                at[i] = x.max(1e-300);
+                at[j] = y.max(1e-300);
+                points.push(at);
             }
         }
+        let verdicts = surrogate_verdicts(p, candidates, &points).unwrap_or_else(|| {
+            let known: Vec<(f64, f64, bool)> = candidates
+                .iter()
+                .map(|k| (vi.bounds.unit(k.x[i]), vj.bounds.unit(k.x[j]), k.feasible))
+                .collect();
+            points
+                .iter()
+                .map(|x| {
+                    let (ux, uy) = (vi.bounds.unit(x[i]), vj.bounds.unit(x[j]));
+                    let ok = known
+                        .iter()
+                        .min_by(|a, b| {
+                            let da = (a.0 - ux).powi(2) + (a.1 - uy).powi(2);
+                            let db = (b.0 - ux).powi(2) + (b.1 - uy).powi(2);
+                            da.total_cmp(&db)
+                        })
+                        .is_some_and(|k| k.2);
+                    if ok {
+                        Verdict::Safe
+                    } else {
+                        Verdict::Unsafe
+                    }
+                })
+                .collect()
+        });
+        let rgb: Vec<u8> = verdicts
+            .iter()
+            .flat_map(|v| match v {
+                Verdict::Safe => [225, 243, 228],
+                Verdict::Unsafe => [248, 226, 226],
+                Verdict::Uncertain => [250, 244, 214],
+            })
+            .collect();
         c.heatmap = Some(Heatmap { cols, rows, rgb });
         for k in candidates {
             let color = if k.feasible { FEASIBLE } else { INFEASIBLE };
@@ -488,6 +555,9 @@ pub fn safe_set_maps(
             ("feasible", FEASIBLE),
             ("infeasible", INFEASIBLE),
             ("recommended", OPTIMUM),
+            ("surrogate: safe", Rgb(225, 243, 228)),
+            ("surrogate: uncertain", Rgb(250, 244, 214)),
+            ("surrogate: unsafe", Rgb(248, 226, 226)),
         ]);
         out.push((format!("safe_set_{}_{}", slug(&vi.key), slug(&vj.key)), c));
     }

@@ -11,6 +11,16 @@ use std::path::Path;
 /// the bearing and ring quantities of a run-up.
 pub const DESIGN_KEYS: &[&str] = &["clearance", "dh", "c", "d", "m_r"];
 
+/// Whether `v` is a physical value of the design key `key`: sizes, stiffness, damping and mass
+/// above zero; the step height from zero (a circular bore, the paper's dH = 0).
+fn physical(key: &str, v: f64) -> bool {
+    if key == "dh" {
+        v >= 0.0
+    } else {
+        v > 0.0
+    }
+}
+
 /// Keys of `[base]` that the optimisation sets itself.
 const BASE_RESERVED: &[&str] = &["profile", "stop", "fmu_dir"];
 
@@ -182,6 +192,15 @@ impl Problem {
         self.variables.len()
     }
 
+    /// The points each candidate is checked at: its nominal design and, with k toleranced keys,
+    /// the 2^k corners of its tolerance box.
+    pub fn corner_count(&self) -> usize {
+        match self.tolerances.len() {
+            0 => 1,
+            k => (1usize << k) + 1,
+        }
+    }
+
     /// The corners of the tolerance box around `x` (variables' nominal values): first the
     /// nominal design itself, then every combination of low and high of the toleranced keys.
     /// Each corner is a set of study keys (the base's own values for keys that are no
@@ -199,7 +218,9 @@ impl Problem {
         }
         let mut out = vec![nominal.clone()];
         let k = self.tolerances.len();
-        for mask in 0..(1usize << k) {
+        // Without tolerances the nominal design is the only corner.
+        let masks = if k == 0 { 0 } else { 1usize << k };
+        for mask in 0..masks {
             let mut corner = nominal.clone();
             for (bit, (key, tol)) in self.tolerances.iter().enumerate() {
                 let x = *values.get(key).ok_or_else(|| {
@@ -208,10 +229,11 @@ impl Problem {
                 let (lo, hi) = tol.range(x);
                 let v = if mask & (1 << bit) == 0 { lo } else { hi };
                 let v = significant(v, 4);
-                if v.is_nan() || v <= 0.0 {
+                if v.is_nan() || !physical(key, v) {
                     return Err(format!(
                         "the tolerance on '{key}' takes it to {v} at a corner around {x}: a \
-                         corner must stay a physical design (> 0)"
+                         corner must stay a physical design ({} 0)",
+                        if key == "dh" { ">=" } else { ">" }
                     ));
                 }
                 corner.insert(key.clone(), number_text(v));
@@ -563,10 +585,11 @@ fn parse_variables(t: &toml::Table) -> Result<Vec<DesignVariable>, String> {
             }
             _ => return Err(bad()),
         };
-        if DESIGN_KEYS.contains(&key.as_str()) && lo <= 0.0 {
+        if DESIGN_KEYS.contains(&key.as_str()) && !physical(&key, lo) {
             return Err(format!(
-                "[variables] {key}: the lower bound {lo} must be > 0 ({key} is a physical \
-                 size)"
+                "[variables] {key}: the lower bound {lo} must be {} ({key} is a physical \
+                 size)",
+                if key == "dh" { ">= 0" } else { "> 0" }
             ));
         }
         let bounds = Variable::new(&key, lo, hi, scale).map_err(|e| format!("[variables] {e}"))?;

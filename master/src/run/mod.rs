@@ -5,7 +5,11 @@
 //! says of its bearings.
 
 pub mod folder;
+mod halt;
 pub mod read_back;
+
+pub use halt::Halt;
+use halt::LimitWatch;
 
 use crate::analysis::{classify, RunSeries};
 use crate::plot::plot_runup;
@@ -43,89 +47,12 @@ pub struct RunOptions {
     pub bores: Option<[Bore; 2]>,
     /// Also write `timeseries.parquet` when the run ends (the CSV is written in any case).
     pub parquet: bool,
-    /// End the run once a film's minimum thickness falls below a limit (`runup --halt-film`).
-    pub halt: Option<FilmHalt>,
+    /// End the run once a film's minimum thickness falls below a limit or a whirl grows beyond
+    /// one (`runup --halt-film`, `--halt-whirl`).
+    pub halt: Option<Halt>,
     /// Figures of what was run, drawn before it (a flexible rotor to scale): (file stem, chart),
     /// saved and listed with the run-up's figures when the run ends.
     pub figures: Vec<(String, crate::plot::Chart)>,
-}
-
-/// A run-up that ends once it has crossed its film-thickness limit: the minimum film thickness
-/// of either bearing (`film_C.h_min`, `film_T.h_min`) below `min_film_m` while the rotor speed
-/// lies in `speeds_hz`. Watched by an observer of the run.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct FilmHalt {
-    pub min_film_m: f64,
-    pub speeds_hz: (f64, f64),
-}
-
-/// Watches the films' minimum thickness for [`FilmHalt`] and asks the run to halt where it is
-/// crossed: at the macro point of the sample that crosses it (that sample is the series' last
-/// row, or, inside a long calm macro step, the rows up to the step's end follow it).
-struct FilmWatch {
-    rule: FilmHalt,
-    /// Columns of rotor.omega, film_C.h_min, film_T.h_min in a sample's values.
-    cols: [usize; 3],
-    reason: Option<String>,
-}
-
-impl FilmWatch {
-    fn new(rule: FilmHalt) -> Self {
-        FilmWatch {
-            rule,
-            cols: [0; 3],
-            reason: None,
-        }
-    }
-}
-
-impl Observer for FilmWatch {
-    fn started(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
-        let names = ["rotor.omega", "film_C.h_min", "film_T.h_min"];
-        for (k, name) in names.iter().enumerate() {
-            self.cols[k] = run
-                .columns
-                .iter()
-                .position(|r| r.name == *name)
-                .ok_or_else(|| {
-                    ObserverError::Other(format!(
-                        "--halt-film watches {}: the run records no output {name}",
-                        names.join(", ")
-                    ))
-                })?;
-        }
-        Ok(())
-    }
-
-    fn sample(&mut self, t_s: f64, values: &[f64]) -> Result<(), ObserverError> {
-        if self.reason.is_some() {
-            return Ok(());
-        }
-        let f_hz = values[self.cols[0]] / std::f64::consts::TAU;
-        let (lo, hi) = self.rule.speeds_hz;
-        if !(lo..=hi).contains(&f_hz) {
-            return Ok(());
-        }
-        for (bearing, col) in [("C", self.cols[1]), ("T", self.cols[2])] {
-            let h = values[col];
-            // A NaN thickness is no thickness above the limit either.
-            if h < self.rule.min_film_m || h.is_nan() {
-                self.reason = Some(format!(
-                    "film_{bearing}.h_min = {} um < {} um at {} Hz (t = {} s)",
-                    cosim::number::short(h * 1e6),
-                    cosim::number::short(self.rule.min_film_m * 1e6),
-                    cosim::number::short((f_hz * 10.0).round() / 10.0),
-                    cosim::number::short(t_s)
-                ));
-                break;
-            }
-        }
-        Ok(())
-    }
-
-    fn halt(&self) -> Option<String> {
-        self.reason.clone()
-    }
 }
 
 /// Prints FMU messages of status warning or worse (and debug messages when asked) with the
@@ -325,7 +252,7 @@ pub fn run(system_path: &Path, opts: &RunOptions, resume: bool) -> Result<RunRep
     // The guard comes first: it may refuse the run before anything in the folder changes. The
     // CSV observer comes before `rows`: on resume it cuts the file back to the checkpoint before
     // `rows` reads it.
-    let mut watch = opts.halt.map(FilmWatch::new);
+    let mut watch = opts.halt.map(LimitWatch::new);
     let mut observers: Vec<&mut dyn Observer> =
         vec![&mut guard, &mut csv, &mut rows, &mut progress];
     if let Some(w) = watch.as_mut() {

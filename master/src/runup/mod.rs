@@ -77,7 +77,12 @@ pub struct RunupSettings {
     /// while the speed lies in `halt_speeds_hz`; None: run to the stop time.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub halt_film_um: Option<f64>,
-    /// The speed range [Hz] in which `halt_film_um` is watched (`--halt-speeds`; default: all).
+    /// End the run-up once the whirl amplitude of either bearing exceeds this [um]
+    /// (`--halt-whirl`), while the speed lies in `halt_speeds_hz`; None: run to the stop time.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub halt_whirl_um: Option<f64>,
+    /// The speed range [Hz] in which `halt_film_um` and `halt_whirl_um` are watched
+    /// (`--halt-speeds`; default: all).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub halt_speeds_hz: Option<(f64, f64)>,
     /// The design file the run-up started from (`--design`); its entries are the first
@@ -159,6 +164,7 @@ impl RunupSettings {
             film_tolerance: Some(DEFAULT_FILM_TOLERANCE),
             contact: DEFAULT_CONTACT,
             halt_film_um: None,
+            halt_whirl_um: None,
             halt_speeds_hz: None,
             design: None,
             fmu_parameters: Vec::new(),
@@ -167,10 +173,12 @@ impl RunupSettings {
         })
     }
 
-    /// The run's film-thickness halt (`--halt-film`, `--halt-speeds`), if any.
-    pub fn film_halt(&self) -> Option<crate::run::FilmHalt> {
-        self.halt_film_um.map(|um| crate::run::FilmHalt {
-            min_film_m: um * 1e-6,
+    /// The run's halt on its film thickness or whirl amplitude (`--halt-film`, `--halt-whirl`,
+    /// `--halt-speeds`), if any.
+    pub fn halt(&self) -> Option<crate::run::Halt> {
+        (self.halt_film_um.is_some() || self.halt_whirl_um.is_some()).then(|| crate::run::Halt {
+            min_film_m: self.halt_film_um.map(|um| um * 1e-6),
+            max_whirl_m: self.halt_whirl_um.map(|um| um * 1e-6),
             speeds_hz: self.halt_speeds_hz.unwrap_or((0.0, f64::INFINITY)),
         })
     }

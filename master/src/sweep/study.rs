@@ -33,6 +33,7 @@ pub const KEYS: &[(&str, &str, &str, &str)] = &[
     ("step_control", "sc", "step_control", ""),
     ("film_tolerance", "ftol", "film_tolerance", ""),
     ("halt_film", "halt", "halt_film_um", "um"),
+    ("halt_whirl", "haltw", "halt_whirl_um", "um"),
     ("halt_speeds", "haltf", "", ""),
     ("fmu_dir", "fmu", "", ""),
 ];
@@ -46,6 +47,7 @@ pub(super) const NUMERICS: &[&str] = &[
     "fmu_dir",
     "calm_macro_step",
     "halt_film",
+    "halt_whirl",
     "halt_speeds",
 ];
 
