@@ -368,3 +368,93 @@ fn stop_in_a_round(file: &str, out: &Path, signal: i32) -> usize {
     );
     at
 }
+
+/// A requirement no design in the box meets: the command says so, names the candidate nearest
+/// to meeting it and the limit it misses, and writes no recommendation.
+#[test]
+fn a_requirement_nothing_meets_names_the_nearest_design_and_its_missed_limit() {
+    let base = common::tmp("optimize", "unmeetable");
+    std::fs::create_dir_all(&base).unwrap();
+    let file = base.join("unmeetable.toml");
+    // A film of 40 um in a clearance of 15-25 um: the linear stage fails every corner.
+    let problem = PROBLEM
+        .replace("min_film_um = 3.0", "min_film_um = 40.0")
+        .replace("budget = 6", "budget = 4\nmethod = \"random\"")
+        .replace("initial = 4\n", "");
+    std::fs::write(&file, problem).unwrap();
+    let out = base.join("out");
+    let (ok, err) = airring(&[
+        "optimize",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "an answer, if a negative one: {err}");
+    let last = err.lines().last().unwrap_or("");
+    assert!(
+        last.contains("no design meets the requirement; nearest: #")
+            && last.contains("below the limit 40 um"),
+        "{last}"
+    );
+    assert!(!out.join("recommended.toml").exists());
+    let page = std::fs::read_to_string(out.join("report.html")).unwrap();
+    assert!(
+        page.contains("Nearest to meeting it: candidate #"),
+        "report.html"
+    );
+    let _ = std::fs::remove_dir_all(&base);
+}
+
+/// Two objectives: the search runs egobox's multi-objective criterion and writes the Pareto
+/// front of the feasible candidates, each on it unbeaten in both objectives by any feasible one.
+#[test]
+fn two_objectives_give_a_pareto_front() {
+    let base = common::tmp("optimize", "two");
+    std::fs::create_dir_all(&base).unwrap();
+    let file = base.join("two.toml");
+    let problem = PROBLEM
+        .replace("name = \"fast\"", "name = \"two\"")
+        .replace(
+            "[objective]\nmaximize = \"clearance\"\n",
+            "[[objective]]\nmaximize = \"clearance\"\n[[objective]]\nminimize = \"c\"\n",
+        )
+        .replace("budget = 6", "budget = 8");
+    std::fs::write(&file, problem).unwrap();
+    let out = base.join("out");
+    let (ok, err) = airring(&[
+        "optimize",
+        file.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--no-verify",
+        "--quiet",
+    ]);
+    assert!(ok, "{err}");
+    let evals = evaluations(&out);
+    assert_eq!(evals.len(), 8);
+    let feasible: Vec<(f64, f64)> = evals
+        .iter()
+        .filter(|e| e["feasible"].as_bool().unwrap())
+        .map(|e| (e["x"][0].as_f64().unwrap(), e["x"][1].as_f64().unwrap()))
+        .collect();
+    assert!(!feasible.is_empty(), "{evals:?}");
+    let front = std::fs::read_to_string(out.join("pareto.csv")).unwrap();
+    let rows: Vec<&str> = front.lines().skip(1).collect();
+    assert!(!rows.is_empty(), "{front}");
+    for r in &rows {
+        let f: Vec<f64> = r
+            .split(',')
+            .skip(1)
+            .take(2)
+            .map(|v| v.parse().unwrap())
+            .collect();
+        // Maximise C, minimise c: nothing feasible has a larger C and a smaller c.
+        assert!(
+            !feasible
+                .iter()
+                .any(|(c, k)| (*c >= f[0] && *k < f[1]) || (*c > f[0] && *k <= f[1])),
+            "{r} is beaten: {feasible:?}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&base);
+}

@@ -81,7 +81,18 @@ pub fn execute(a: Args) -> Result<ExitCode, Error> {
         return Ok(ExitCode::from(3));
     }
     let verdict = match (&r.best, &r.verification) {
-        (None, _) => "no design meets the requirement".to_string(),
+        (None, _) => match master::optimize::closest_of(&r.candidates) {
+            Some(i) => {
+                let c = &r.candidates[i];
+                format!(
+                    "no design meets the requirement; nearest: #{} ({}): {}",
+                    c.index,
+                    master::optimize::describe_x(&problem, &c.x),
+                    c.reason
+                )
+            }
+            None => "no design meets the requirement".to_string(),
+        },
         (Some(b), v) => {
             let c = &r.candidates[*b];
             let checked = match v {

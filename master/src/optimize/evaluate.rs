@@ -78,10 +78,6 @@ pub struct NonlinearResult {
     /// where. Its film thickness, whirl amplitude and class are those up to there.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub halted: Option<String>,
-    /// Of a halted run-up: the share of its run (run-up and run-down, by time) it did not
-    /// reach, 0 to 1. An early halt is a design far from meeting the requirement.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub unreached: Option<f64>,
     pub error: Option<String>,
 }
 
@@ -343,13 +339,6 @@ pub fn nonlinear_result(dir: &Path, run: &str, range_hz: (f64, f64)) -> Nonlinea
             };
             r.onset_hz = s.onset_speed_hz;
             r.halted = s.halted.clone();
-            if s.halted.is_some() {
-                let stop = s.settings.get("stop_time_s").and_then(|v| v.as_f64());
-                r.unreached = match (s.t_end_s, stop) {
-                    (Some(t), Some(stop)) if stop > 0.0 => Some((1.0 - t / stop).clamp(0.0, 1.0)),
-                    _ => None,
-                };
-            }
             match run_metrics(dir, range_hz) {
                 Ok((film, whirl)) => {
                     r.min_film_um = film;
@@ -492,22 +481,8 @@ pub fn summarize(p: &Problem, index: usize, x: Vec<f64>, corners: Vec<Corner>) -
         .map(|c| c.linear.threshold_hz.unwrap_or(top).min(top))
         .reduce(f64::min);
     let power_loss_w = corners.first().map_or(f64::NAN, |c| c.linear.power_loss_w);
-    // A corner halted at a limit measured its film or whirl only up to the halt, just beyond
-    // the limit whatever the design: its constraint adds the share of the run it did not reach,
-    // so that the surrogates see a design failing early as farther from safe than one failing
-    // late (and an unexplored region beyond failing designs as unsafe).
-    let unreached = |which: &str| -> f64 {
-        corners
-            .iter()
-            .filter_map(|c| c.nonlinear.as_ref())
-            .filter(|n| n.halted.as_deref().is_some_and(|h| h.starts_with(which)))
-            .filter_map(|n| n.unreached)
-            .fold(0.0, f64::max)
-    };
-    let film_c = 1.0 - min_film_um / p.min_film_um + unreached("film_");
-    let whirl_c = p
-        .max_whirl_um
-        .map(|lim| whirl_um / lim - 1.0 + unreached("whirl_"));
+    let film_c = 1.0 - min_film_um / p.min_film_um;
+    let whirl_c = p.max_whirl_um.map(|lim| whirl_um / lim - 1.0);
     let class_c = (!p.classes.is_empty()).then(|| {
         let allowed = corners
             .iter()
@@ -644,7 +619,6 @@ mod tests {
             min_film_um: film,
             whirl_um: whirl,
             halted: None,
-            unreached: None,
             error: None,
         };
         let good = corner("nominal", linear(Some(1100.0), 5.0), Some(run(3.0, 0.5)));
@@ -685,30 +659,6 @@ mod tests {
         assert!(
             !pass && why.starts_with("halted: film_T.h_min = NaN um"),
             "{why}"
-        );
-        // A corner halted early counts as farther from safe: its constraint adds the share of
-        // the run it did not reach (here the whirl's, 2.5 of 1 um, halted with 40 % to go).
-        let whirled = NonlinearResult {
-            halted: Some("whirl_C = 2.5 um > 1 um at 900 Hz (t = 1.3 s)".into()),
-            unreached: Some(0.4),
-            ..run(3.0, 2.5)
-        };
-        let c = summarize(
-            &p,
-            2,
-            vec![20.0],
-            vec![corner("nominal", linear(Some(800.0), 5.0), Some(whirled))],
-        );
-        assert!(!c.feasible);
-        assert!(
-            (c.constraints[1] - (2.5 - 1.0 + 0.4)).abs() < 1e-12,
-            "{:?}",
-            c.constraints
-        );
-        assert!(
-            (c.constraints[0] - (1.0 - 3.0 / 2.0)).abs() < 1e-12,
-            "{:?}",
-            c.constraints
         );
     }
 

@@ -624,6 +624,17 @@ fn report_html(
                  candidates met it at all its corners. evaluations.csv gives each one's reason.</p>",
                 candidates.len()
             );
+            if let Some(i) = super::closest_of(candidates) {
+                let c = &candidates[i];
+                let _ = writeln!(
+                    h,
+                    "<p>Nearest to meeting it: candidate #{} ({}), margin {}: {}.</p>",
+                    c.index,
+                    esc(&super::describe_x(p, &c.x)),
+                    fmt(c.margin),
+                    esc(&c.reason)
+                );
+            }
         }
         Some(b) => {
             let c = &candidates[b];

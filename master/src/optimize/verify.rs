@@ -192,7 +192,6 @@ mod tests {
             min_film_um: film,
             whirl_um: whirl,
             halted: None,
-            unreached: None,
             error: None,
         }
     }
