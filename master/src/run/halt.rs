@@ -18,7 +18,7 @@ use cosim::observer::{Observer, ObserverError, RunStart};
 ///   (`runup_analysis::onset::oscillation_track`), so a run halted here shows the amplitude
 ///   that halted it.
 ///
-/// Watched by an observer of the run ([`LimitWatch`]).
+/// Watched by an observer of the run (`LimitWatch`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Halt {
     pub min_film_m: Option<f64>,
