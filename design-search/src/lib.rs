@@ -232,10 +232,14 @@ pub fn safe_set(
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Method {
     /// Constrained EGO: a Latin hypercube of `initial` points, then `batch` points per round.
+    /// A point asked within `repeat_distance` (unit cube) of one evaluated or earlier in its
+    /// batch is replaced (`replace_repeats`); 0 keeps every point EGO asks for. A caller that
+    /// rounds its designs sets it to that resolution: closer points are the same design.
     Ego {
         initial: usize,
         batch: usize,
         seed: u64,
+        repeat_distance: f64,
     },
     /// Uniform random points.
     Random { seed: u64 },
@@ -332,6 +336,7 @@ pub fn search(
             initial,
             batch,
             seed,
+            repeat_distance,
         } => {
             if initial < 2 || initial > budget || batch == 0 {
                 return Err(format!(
@@ -371,7 +376,18 @@ pub fn search(
                     .take(want)
                     .map(|r| r.to_vec())
                     .collect();
-                let next = replace_repeats(variables, &evals, n_constraints, next, seed);
+                let next = if repeat_distance > 0.0 {
+                    replace_repeats(
+                        variables,
+                        &evals,
+                        n_constraints,
+                        next,
+                        seed,
+                        repeat_distance,
+                    )
+                } else {
+                    next
+                };
                 if next.is_empty() {
                     break;
                 }
@@ -382,15 +398,14 @@ pub fn search(
     Ok(evals)
 }
 
-/// Two points closer than this in the unit cube are the same design: a Gaussian process learns
-/// nothing from evaluating it again.
-pub const REPEAT_DISTANCE: f64 = 1e-3;
 /// A replacement keeps at least this distance from every point evaluated or asked for.
 const REPLACEMENT_SPACING: f64 = 0.05;
 
 /// EGO asks again for a design it has evaluated when its criterion is flat there (an objective
 /// equal over a whole region, such as a margin capped on a stable plateau): a wasted evaluation.
-/// Each such repeat, and each point of the batch repeating an earlier one, is replaced by the
+/// Each such repeat (within `repeat_distance` in the unit cube: the caller's resolution, below
+/// which two points are one design), and each point of the batch repeating an earlier one, is
+/// replaced by the
 /// design the constraint surrogates are least sure about, p (1 - p) largest for p the
 /// probability of feasibility, among a seeded Latin hypercube of candidates kept
 /// `REPLACEMENT_SPACING` from every other point: it sharpens the boundary of the safe set. Without
@@ -402,6 +417,7 @@ fn replace_repeats(
     n_constraints: usize,
     next: Vec<Vec<f64>>,
     seed: u64,
+    repeat_distance: f64,
 ) -> Vec<Vec<f64>> {
     let dim = variables.len();
     let mut taken: Vec<Vec<f64>> = evals
@@ -430,7 +446,7 @@ fn replace_repeats(
     let mut pool: Option<(Vec<Vec<f64>>, Vec<f64>)> = None;
     let mut out = Vec::with_capacity(next.len());
     for u in next {
-        if nearest(&taken, &u) >= REPEAT_DISTANCE {
+        if nearest(&taken, &u) >= repeat_distance {
             taken.push(u.clone());
             out.push(u);
             continue;
@@ -532,6 +548,7 @@ mod tests {
             1,
             vec![evals[7].x.clone(), fresh.clone(), evals[7].x.clone()],
             3,
+            1e-3,
         );
         assert_eq!(out[1], fresh, "a new point is kept");
         let d = |a: &[f64], b: &[f64]| ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
@@ -552,6 +569,7 @@ mod tests {
             1,
             vec![evals[7].x.clone(), fresh, evals[7].x.clone()],
             3,
+            1e-3,
         );
         assert_eq!(out, again);
     }

@@ -45,6 +45,7 @@ fn ego_finds_the_optimum_on_the_boundary_and_beats_random_and_grid_at_the_same_b
                 initial: 5,
                 batch: 1,
                 seed,
+                repeat_distance: 0.0,
             },
             BUDGET,
             vec![],
@@ -74,6 +75,7 @@ fn a_resumed_search_gives_the_evaluations_of_an_uninterrupted_one() {
         initial: 5,
         batch: 2,
         seed: 7,
+        repeat_distance: 0.0,
     };
     let whole = run(method, 15, vec![]);
     let first = run(method, 9, vec![]);

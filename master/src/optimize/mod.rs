@@ -91,6 +91,10 @@ pub fn optimize(p: &Problem, text: &str, opts: &OptimizeOptions) -> Result<Outco
             initial: p.initial,
             batch: p.batch,
             seed: p.seed,
+            // Candidates are rounded to 4 significant digits (they name the run folders): in
+            // the unit cube of a variable spanning a decade or more, points closer than about
+            // 1e-3 are one design.
+            repeat_distance: 1e-3,
         },
         problem::SearchMethod::Random => design_search::Method::Random { seed: p.seed },
         problem::SearchMethod::Grid => design_search::Method::Grid,

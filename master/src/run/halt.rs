@@ -16,7 +16,7 @@ use cosim::observer::{Observer, ObserverError, RunStart};
 ///   component removed; windows every `WHIRL_HOP_S` from the first sample. These are the
 ///   windows the run-up analysis and `airring optimize` measure the whirl amplitude with
 ///   (`runup_analysis::onset::oscillation_track`), so a run halted here shows the amplitude
-///   that halted it.
+///   that halted it. A resumed run's windows start again at its checkpoint.
 ///
 /// Watched by an observer of the run (`LimitWatch`).
 #[derive(Clone, Copy, Debug, PartialEq)]
