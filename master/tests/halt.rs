@@ -29,6 +29,16 @@ fn rows(dir: &std::path::Path) -> Vec<(f64, f64, f64, f64)> {
         .collect()
 }
 
+/// `airring BASE HALT --out OUT`, which must complete and halt: its summary and why it halted.
+fn halted_run(base: &[&str], halt: &[&str], out: &std::path::Path) -> (RunSummary, String) {
+    let (ok, err) = airring(&[base, halt, &["--out", out.to_str().unwrap()]].concat());
+    assert!(ok, "a halted run-up is a success: {err}");
+    let s = RunSummary::read(out).unwrap();
+    assert_eq!(s.status, RunStatus::Completed);
+    let why = s.halted.clone().expect("summary.json says where it halted");
+    (s, why)
+}
+
 #[test]
 fn a_run_up_halts_where_its_film_first_falls_below_the_limit() {
     let whole = common::tmp("halt", "whole");
@@ -53,18 +63,11 @@ fn a_run_up_halts_where_its_film_first_falls_below_the_limit() {
         .position(|r| r.1 >= 100.0 && r.2.min(r.3) < limit_m)
         .expect("the whole run crosses the limit");
     let limit_um = format!("{}", limit_m * 1e6);
-    let (ok, err) = airring(
-        &[
-            &base[..],
-            &["--halt-film", &limit_um, "--halt-speeds", "100:400"],
-            &["--out", halted.to_str().unwrap()],
-        ]
-        .concat(),
+    let (s, why) = halted_run(
+        &base,
+        &["--halt-film", &limit_um, "--halt-speeds", "100:400"],
+        &halted,
     );
-    assert!(ok, "a halted run-up is a success: {err}");
-    let s = RunSummary::read(&halted).unwrap();
-    assert_eq!(s.status, RunStatus::Completed);
-    let why = s.halted.clone().expect("summary.json says where it halted");
     assert!(why.starts_with("film_") && why.contains(" um < "), "{why}");
     // The same series up to the first sample below the limit, and nothing after it.
     let part = rows(&halted);
@@ -172,18 +175,11 @@ fn a_run_up_halts_where_its_whirl_first_exceeds_the_limit() {
         .expect("a window over the limit");
     let last = k * hop + n_win - 1;
     let limit_um = format!("{}", limit_m * 1e6);
-    let (ok, err) = airring(
-        &[
-            &base[..],
-            &["--halt-whirl", &limit_um, "--halt-speeds", "600:1000"],
-            &["--out", halted.to_str().unwrap()],
-        ]
-        .concat(),
+    let (s, why) = halted_run(
+        &base,
+        &["--halt-whirl", &limit_um, "--halt-speeds", "600:1000"],
+        &halted,
     );
-    assert!(ok, "a halted run-up is a success: {err}");
-    let s = RunSummary::read(&halted).unwrap();
-    assert_eq!(s.status, RunStatus::Completed);
-    let why = s.halted.clone().expect("summary.json says where it halted");
     assert!(why.starts_with("whirl_") && why.contains(" um > "), "{why}");
     let part = rows(&halted);
     let all = rows(&whole);

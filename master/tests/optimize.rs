@@ -46,6 +46,15 @@ fn rows(dir: &Path) -> Vec<Vec<String>> {
     out
 }
 
+/// A fresh folder for one test with the optimisation file NAME.toml holding `text` in it.
+fn problem_file(name: &str, text: &str) -> (std::path::PathBuf, std::path::PathBuf) {
+    let base = common::tmp("optimize", name);
+    std::fs::create_dir_all(&base).unwrap();
+    let file = base.join(format!("{name}.toml"));
+    std::fs::write(&file, text).unwrap();
+    (base, file)
+}
+
 fn json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
@@ -373,15 +382,14 @@ fn stop_in_a_round(file: &str, out: &Path, signal: i32) -> usize {
 /// to meeting it and the limit it misses, and writes no recommendation.
 #[test]
 fn a_requirement_nothing_meets_names_the_nearest_design_and_its_missed_limit() {
-    let base = common::tmp("optimize", "unmeetable");
-    std::fs::create_dir_all(&base).unwrap();
-    let file = base.join("unmeetable.toml");
     // A film of 40 um in a clearance of 15-25 um: the linear stage fails every corner.
-    let problem = PROBLEM
-        .replace("min_film_um = 3.0", "min_film_um = 40.0")
-        .replace("budget = 6", "budget = 4\nmethod = \"random\"")
-        .replace("initial = 4\n", "");
-    std::fs::write(&file, problem).unwrap();
+    let (base, file) = problem_file(
+        "unmeetable",
+        &PROBLEM
+            .replace("min_film_um = 3.0", "min_film_um = 40.0")
+            .replace("budget = 6", "budget = 4\nmethod = \"random\"")
+            .replace("initial = 4\n", ""),
+    );
     let out = base.join("out");
     let (ok, err) = airring(&[
         "optimize",
@@ -409,17 +417,16 @@ fn a_requirement_nothing_meets_names_the_nearest_design_and_its_missed_limit() {
 /// front of the feasible candidates, each on it unbeaten in both objectives by any feasible one.
 #[test]
 fn two_objectives_give_a_pareto_front() {
-    let base = common::tmp("optimize", "two");
-    std::fs::create_dir_all(&base).unwrap();
-    let file = base.join("two.toml");
-    let problem = PROBLEM
-        .replace("name = \"fast\"", "name = \"two\"")
-        .replace(
-            "[objective]\nmaximize = \"clearance\"\n",
-            "[[objective]]\nmaximize = \"clearance\"\n[[objective]]\nminimize = \"c\"\n",
-        )
-        .replace("budget = 6", "budget = 8");
-    std::fs::write(&file, problem).unwrap();
+    let (base, file) = problem_file(
+        "two",
+        &PROBLEM
+            .replace("name = \"fast\"", "name = \"two\"")
+            .replace(
+                "[objective]\nmaximize = \"clearance\"\n",
+                "[[objective]]\nmaximize = \"clearance\"\n[[objective]]\nminimize = \"c\"\n",
+            )
+            .replace("budget = 6", "budget = 8"),
+    );
     let out = base.join("out");
     let (ok, err) = airring(&[
         "optimize",

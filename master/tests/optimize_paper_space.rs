@@ -322,4 +322,5 @@ fn the_searchs_safe_set_agrees_with_a_brute_force_grid_and_shows_the_papers_tren
         safe20.iter().filter(|s| **s).count() > safe30.iter().filter(|s| **s).count(),
         "C = 20 um is not safer than 30 um along d"
     );
+    let _ = std::fs::remove_dir_all(&dir);
 }

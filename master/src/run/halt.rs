@@ -66,13 +66,25 @@ impl Track {
     }
 }
 
+/// The outputs a [`LimitWatch`] reads: the speed, the films' minimum thickness, the journals'
+/// motion relative to their rings.
+const COLUMNS: [&str; 7] = [
+    "rotor.omega",
+    "film_C.h_min",
+    "film_T.h_min",
+    "rotor.dx_C",
+    "rotor.dy_C",
+    "rotor.dx_T",
+    "rotor.dy_T",
+];
+
 /// Watches the limits of a [`Halt`] and asks the run to halt where one is crossed: at the macro
 /// point of the sample that crosses it (that sample is the series' last row, or, inside a long
 /// calm macro step, the rows up to the step's end follow it).
 pub(super) struct LimitWatch {
     rule: Halt,
-    /// Columns of rotor.omega, film_C.h_min, film_T.h_min, rotor.dx_C, rotor.dy_C, rotor.dx_T,
-    /// rotor.dy_T in a sample's values (the films' and the motions' only where watched).
+    /// Where each of `COLUMNS` lies in a sample's values (the films' and the motions' only
+    /// where watched).
     cols: [usize; 7],
     track: Track,
     reason: Option<String>,
@@ -199,29 +211,24 @@ impl LimitWatch {
 
 impl Observer for LimitWatch {
     fn started(&mut self, run: &RunStart<'_>) -> Result<(), ObserverError> {
-        let mut names = vec!["rotor.omega"];
-        if self.rule.min_film_m.is_some() {
-            names.extend(["film_C.h_min", "film_T.h_min"]);
-        }
-        if self.rule.max_whirl_m.is_some() {
-            names.extend(["rotor.dx_C", "rotor.dy_C", "rotor.dx_T", "rotor.dy_T"]);
-        }
-        let all = [
-            "rotor.omega",
-            "film_C.h_min",
-            "film_T.h_min",
-            "rotor.dx_C",
-            "rotor.dy_C",
-            "rotor.dx_T",
-            "rotor.dy_T",
-        ];
-        for name in &names {
-            let k = all.iter().position(|a| a == name).expect("a known column");
+        // The speed always; the films' and the motions' columns only where watched.
+        let (film, whirl) = (
+            self.rule.min_film_m.is_some(),
+            self.rule.max_whirl_m.is_some(),
+        );
+        let watched: Vec<(usize, &str)> = COLUMNS
+            .iter()
+            .copied()
+            .enumerate()
+            .filter(|(k, _)| *k == 0 || (*k < 3 && film) || (*k >= 3 && whirl))
+            .collect();
+        for &(k, name) in &watched {
             self.cols[k] = run
                 .columns
                 .iter()
-                .position(|r| r.name == *name)
+                .position(|r| r.name == name)
                 .ok_or_else(|| {
+                    let names: Vec<&str> = watched.iter().map(|(_, n)| *n).collect();
                     ObserverError::Other(format!(
                         "the run's halt watches {}: the run records no output {name}",
                         names.join(", ")
